@@ -1,0 +1,248 @@
+/*
+ * libmps2p: gas-liquid two-phase flow with the Moving Particle Semi-implicit
+ * (MPS) method, in 2D.
+ *
+ * The header reads like the method:
+ *   1. versions, status codes and error messages;
+ *   2. a scene: particle spacing, fluids, particles (boxes, tanks, arrays) and
+ *      parameters set by name;
+ *   3. a solver built from the scene, stepped or advanced to a time;
+ *   4. results: fields copied into caller buffers, and statistics by name.
+ *
+ * Conventions, everywhere:
+ *   - every function that can fail returns an int status: MPS2P_OK (0) on
+ *     success, a negative MPS2P_ERR_* code on failure; the codes never change;
+ *   - on failure, mps2p_last_error() holds a message for the calling thread,
+ *     and a non-const call on a handle also keeps it on the handle
+ *     (mps2p_scene_last_error, mps2p_solver_last_error);
+ *   - handles are opaque; destroy functions accept NULL;
+ *   - arrays are copied into caller buffers whose length (in elements) is
+ *     passed explicitly; vectors are interleaved (x0, y0, x1, y1, ...);
+ *   - SI units throughout (m, s, kg/m^3, m^2/s, Pa).
+ *
+ * Thread safety: there is no global mutable state. Different handles may be
+ * used from different threads at the same time; one handle must not be used
+ * by two threads at once.
+ */
+#ifndef MPS2P_H
+#define MPS2P_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(MPS2P_BUILDING) && defined(__GNUC__)
+#define MPS2P_API __attribute__((visibility("default")))
+#else
+#define MPS2P_API
+#endif
+
+/* ---------------------------------------------------------------------------
+ * 1. Versions, status codes, errors
+ * ------------------------------------------------------------------------- */
+
+#define MPS2P_VERSION_MAJOR 0
+#define MPS2P_VERSION_MINOR 1
+#define MPS2P_VERSION_PATCH 0
+/* major * 10000 + minor * 100 + patch, as for the header you compiled with */
+#define MPS2P_VERSION_NUMBER 100
+#define MPS2P_VERSION_STRING "0.1.0"
+
+/* Version of the library actually loaded at run time. */
+MPS2P_API unsigned mps2p_version_number(void);
+MPS2P_API const char *mps2p_version_string(void);
+
+enum {
+    MPS2P_OK = 0,
+    MPS2P_STOPPED = 1,            /* not an error: a progress callback asked to stop */
+    MPS2P_ERR_NULL = -1,          /* a required pointer argument was NULL */
+    MPS2P_ERR_INVALID = -2,       /* an argument is out of range or not finite */
+    MPS2P_ERR_UNKNOWN_KEY = -3,   /* no parameter, option or statistic of that name */
+    MPS2P_ERR_NOMEM = -4,         /* memory allocation failed */
+    MPS2P_ERR_STATE = -5,         /* the call does not fit the handle's state */
+    MPS2P_ERR_BUFFER = -6,        /* the caller's buffer is too short */
+    MPS2P_ERR_SOLVE = -7,         /* the pressure solve failed (singular, no convergence) */
+    MPS2P_ERR_DIVERGED = -8,      /* the run blew up; the last good state is kept */
+    MPS2P_ERR_IO = -9             /* a file could not be read or written */
+};
+
+/* Name of a status code, e.g. "MPS2P_ERR_INVALID"; never NULL. */
+MPS2P_API const char *mps2p_status_string(int status);
+
+/* Message of the calling thread's last failed call ("" if none); valid until
+ * the next failing call in this thread. */
+MPS2P_API const char *mps2p_last_error(void);
+
+/* ---------------------------------------------------------------------------
+ * 2. Scene
+ * ------------------------------------------------------------------------- */
+
+typedef struct mps2p_scene mps2p_scene;
+
+/* Particle kinds. Walls carry a pressure; dummy walls only fill the wall's
+ * thickness so that wall particles see a full neighbourhood. */
+enum {
+    MPS2P_KIND_FLUID = 0,
+    MPS2P_KIND_WALL = 1,
+    MPS2P_KIND_DUMMY = 2
+};
+
+/* A new, empty scene with particle spacing l0 > 0 (metres). */
+MPS2P_API int mps2p_scene_create(double l0, mps2p_scene **scene);
+MPS2P_API void mps2p_scene_destroy(mps2p_scene *scene);
+MPS2P_API const char *mps2p_scene_last_error(const mps2p_scene *scene);
+
+/* Adds a fluid; its id (0, 1, ...) is written to *fluid_id (may be NULL). */
+MPS2P_API int mps2p_scene_add_fluid(mps2p_scene *scene, const char *name,
+                                    double density, double kinematic_viscosity,
+                                    int *fluid_id);
+MPS2P_API int mps2p_scene_fluid_count(const mps2p_scene *scene, int *count);
+/* *name stays valid while the scene lives. Any output pointer may be NULL. */
+MPS2P_API int mps2p_scene_get_fluid(const mps2p_scene *scene, int fluid_id,
+                                    const char **name, double *density,
+                                    double *kinematic_viscosity);
+
+/* Fills the box [x0,x1] x [y0,y1] with fluid particles on the square lattice
+ * of spacing l0, at cell centres x0 + (i + 1/2) l0. A side that is not a
+ * whole number of l0 is rounded down to one. */
+MPS2P_API int mps2p_scene_add_fluid_box(mps2p_scene *scene, int fluid_id,
+                                        double x0, double y0, double x1, double y1);
+
+/* Fills a box with solid particles on the same lattice. When the solver is
+ * created, solid particles with an empty lattice site among their 8 lattice
+ * neighbours become MPS2P_KIND_WALL, the others MPS2P_KIND_DUMMY. */
+MPS2P_API int mps2p_scene_add_wall_box(mps2p_scene *scene,
+                                       double x0, double y0, double x1, double y1);
+
+/* Walls around the inner region [x0,x1] x [y0,y1]: left, right and bottom,
+ * and top unless open_top is non-zero. The walls are ceil(max radius / l0)
+ * layers thick for the radii set when this is called (set radii first). */
+MPS2P_API int mps2p_scene_add_tank(mps2p_scene *scene, double x0, double y0,
+                                   double x1, double y1, int open_top);
+
+/* Adds count particles from caller arrays: positions (2*count), velocities
+ * (2*count, or NULL for rest), kinds (count, MPS2P_KIND_*), fluid_ids (count;
+ * read only for fluid particles; may be NULL if no particle is fluid). */
+MPS2P_API int mps2p_scene_add_particles(mps2p_scene *scene, size_t count,
+                                        const double *positions,
+                                        const double *velocities,
+                                        const int *kinds, const int *fluid_ids);
+
+MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count);
+
+/* Numerical parameters, by name. Defaults and meanings:
+ *   re_density              2.1   radius of number density and gradient, in l0
+ *   re_laplacian            4.0   radius of the Laplacian, in l0
+ *   beta                    0.97  free surface when n* < beta n0
+ *   gravity_x, gravity_y    0, -9.81 (m/s^2)
+ *   dt                      0     fixed time step (s); 0 = adaptive (cfl)
+ *   cfl                     0.2   adaptive dt <= cfl l0 / max speed
+ *   diffusion_number        0.2   adaptive dt <= diffusion_number l0^2 / nu
+ *   dt_max                  0     largest adaptive dt (s); 0 = cfl l0 / sqrt(2 |g| H),
+ *                                 H the height of the initial fluid
+ *   collision_distance      0.5   too-close distance, in l0; 0 = no collision model
+ *   collision_restitution   0.2   restitution of the collision model
+ *   ppe_relaxation          0.2   factor on the PPE source term
+ *   compressibility         4.5e-10  1/Pa, on the PPE diagonal; keeps a fluid
+ *                                 cluster without free surface solvable
+ *   clamp_negative_pressure 1     1 = negative pressures set to 0, 0 = kept
+ *   cg_tolerance            1e-9  relative residual of the CG pressure solver
+ *   cg_max_iterations       0     0 = 10 * unknowns + 100
+ *   pressure_limit          0     |p| above it means diverged (Pa);
+ *                                 0 = 1000 rho_max max(|g| L, 1 m^2/s^2),
+ *                                 L the largest side of the initial particles' box
+ *   displacement_limit      1.0   a particle moving farther in one step
+ *                                 means diverged, in l0; 0 = no check
+ *   neighbour_skin          0.4   extra radius of the neighbour list, in l0
+ * mps2p_param_info() lists them at run time. */
+MPS2P_API int mps2p_scene_set_param(mps2p_scene *scene, const char *key, double value);
+MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
+                                    double *value);
+
+/* Choices, by name:
+ *   pressure_solver   "cholmod" (default, sparse direct) or "cg"
+ *                     (Jacobi-preconditioned conjugate gradients) */
+MPS2P_API int mps2p_scene_set_option(mps2p_scene *scene, const char *key,
+                                     const char *value);
+MPS2P_API int mps2p_scene_get_option(const mps2p_scene *scene, const char *key,
+                                     const char **value);
+
+/* Particles outside this box count as diverged. Default: the box around the
+ * initial particles, widened by its own width and height on every side. */
+MPS2P_API int mps2p_scene_set_domain(mps2p_scene *scene, double xmin, double ymin,
+                                     double xmax, double ymax);
+
+/* The index-th numeric parameter (0, 1, ...): its key, a one-line
+ * description and its default. MPS2P_ERR_INVALID past the last one. Any
+ * output pointer may be NULL. */
+MPS2P_API int mps2p_param_info(size_t index, const char **key,
+                               const char **description, double *default_value);
+
+/* ---------------------------------------------------------------------------
+ * 3. Solver
+ * ------------------------------------------------------------------------- */
+
+typedef struct mps2p_solver mps2p_solver;
+
+/* Builds a solver from a copy of the scene (the scene may then be changed or
+ * destroyed). Fails on a scene without fluid particles, on particles closer
+ * than 0.1 l0 to each other, and on inconsistent parameters. */
+MPS2P_API int mps2p_solver_create(const mps2p_scene *scene, mps2p_solver **solver);
+MPS2P_API void mps2p_solver_destroy(mps2p_solver *solver);
+MPS2P_API const char *mps2p_solver_last_error(const mps2p_solver *solver);
+
+/* One time step. On MPS2P_ERR_DIVERGED or MPS2P_ERR_SOLVE the solver keeps
+ * the state from before the step, and the message names the particle,
+ * position and time. Once diverged, further steps return MPS2P_ERR_STATE. */
+MPS2P_API int mps2p_solver_step(mps2p_solver *solver);
+
+/* Called after each step; return non-zero to stop the run. */
+typedef int (*mps2p_progress_fn)(const mps2p_solver *solver, void *user_data);
+
+/* Steps until the time reaches end_time exactly (the last steps are shortened
+ * to land on it, never below half a step). Returns MPS2P_OK, MPS2P_STOPPED
+ * when the callback asked to stop, or the error of the failing step.
+ * progress may be NULL. */
+MPS2P_API int mps2p_solver_advance_to(mps2p_solver *solver, double end_time,
+                                      mps2p_progress_fn progress, void *user_data);
+
+/* ---------------------------------------------------------------------------
+ * 4. Results
+ * ------------------------------------------------------------------------- */
+
+MPS2P_API int mps2p_solver_particle_count(const mps2p_solver *solver, size_t *count);
+/* length is the buffer's length in elements: 2 * count for vectors. */
+MPS2P_API int mps2p_solver_get_positions(const mps2p_solver *solver, double *out, size_t length);
+MPS2P_API int mps2p_solver_get_velocities(const mps2p_solver *solver, double *out, size_t length);
+MPS2P_API int mps2p_solver_get_pressure(const mps2p_solver *solver, double *out, size_t length);
+MPS2P_API int mps2p_solver_get_number_density(const mps2p_solver *solver, double *out, size_t length);
+MPS2P_API int mps2p_solver_get_kinds(const mps2p_solver *solver, int *out, size_t length);
+/* fluid id per particle; -1 for wall and dummy particles */
+MPS2P_API int mps2p_solver_get_fluid_ids(const mps2p_solver *solver, int *out, size_t length);
+
+MPS2P_API int mps2p_solver_get_time(const mps2p_solver *solver, double *time);
+MPS2P_API int mps2p_solver_get_step_count(const mps2p_solver *solver, uint64_t *steps);
+MPS2P_API int mps2p_solver_get_last_dt(const mps2p_solver *solver, double *dt);
+
+/* Statistics by name, of the current state or the last step:
+ *   max_speed          largest fluid speed (m/s)
+ *   kinetic_energy     sum of m u^2 / 2 over fluid, m = rho l0^2 (J per m depth)
+ *   potential_energy   sum of -m g.r over fluid (J per m depth)
+ *   pressure_min, pressure_max   over fluid and wall particles (Pa)
+ *   ppe_unknowns       unknowns of the last pressure solve
+ *   ppe_iterations     CG iterations of the last solve (0 for cholmod)
+ *   ppe_residual       relative residual |Ax - b| / |b| of the last solve
+ *   surface_particles  particles flagged free surface in the last step
+ *   n0, lambda         reference number density and Laplacian constant
+ *   neighbour_builds   times the neighbour list was built so far */
+MPS2P_API int mps2p_solver_get_stat(const mps2p_solver *solver, const char *key,
+                                    double *value);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MPS2P_H */

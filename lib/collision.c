@@ -1,0 +1,53 @@
+/* Collision model: particles closer than collision_distance that approach
+ * each other lose the approaching part of their relative velocity (with
+ * restitution). Fluid pairs exchange momentum by mass; walls do not move. */
+#include "internal.h"
+
+#include <math.h>
+#include <string.h>
+
+void collision_apply(mps2p_solver *s, double dt)
+{
+    if (s->params.collision_distance <= 0.0)
+        return;
+    const double limit = s->params.collision_distance * s->l0;
+    const double e = s->params.collision_restitution;
+    const neighbour_list *nl = &s->neighbours;
+    double *position = s->state.position, *velocity = s->state.velocity;
+    double *updated = s->scratch;
+    memcpy(updated, velocity, 2 * s->count * sizeof *updated);
+
+    /* Every impulse is computed from the velocities before this pass, so the
+     * result does not depend on the order of the particles. */
+    for (size_t i = 0; i < s->count; i++) {
+        if (s->kind[i] != MPS2P_KIND_FLUID)
+            continue;
+        for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
+            size_t j = nl->index[k];
+            double dx = position[2 * j] - position[2 * i];
+            double dy = position[2 * j + 1] - position[2 * i + 1];
+            double r = sqrt(dx * dx + dy * dy);
+            if (r >= limit || r <= 0.0)
+                continue;
+            double nx = dx / r, ny = dy / r;
+            double approach = (velocity[2 * i] - velocity[2 * j]) * nx +
+                              (velocity[2 * i + 1] - velocity[2 * j + 1]) * ny;
+            if (approach <= 0.0)
+                continue;
+            double share = 1.0;
+            if (s->kind[j] == MPS2P_KIND_FLUID)
+                share = s->density[j] / (s->density[i] + s->density[j]);
+            double impulse = (1.0 + e) * share * approach;
+            updated[2 * i] -= impulse * nx;
+            updated[2 * i + 1] -= impulse * ny;
+        }
+    }
+    for (size_t i = 0; i < s->count; i++) {
+        if (s->kind[i] != MPS2P_KIND_FLUID)
+            continue;
+        position[2 * i] += dt * (updated[2 * i] - velocity[2 * i]);
+        position[2 * i + 1] += dt * (updated[2 * i + 1] - velocity[2 * i + 1]);
+        velocity[2 * i] = updated[2 * i];
+        velocity[2 * i + 1] = updated[2 * i + 1];
+    }
+}

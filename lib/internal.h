@@ -1,0 +1,207 @@
+/* Private data structures shared by the library's stages. */
+#ifndef MPS2P_INTERNAL_H
+#define MPS2P_INTERNAL_H
+
+#define MPS2P_BUILDING 1
+#include "mps2p.h"
+
+#include <stdarg.h>
+#include <stddef.h>
+
+#define ERROR_MESSAGE_SIZE 512
+#define FLUID_NAME_SIZE 64
+
+/* ---- errors (errors.c) ---- */
+
+/* Formats a message into the thread's last error and, if handle_buffer is
+ * non-NULL, into the handle's too; returns status. */
+int fail(char *handle_buffer, int status, const char *format, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* ---- parameters (params.c) ---- */
+
+enum pressure_solver_kind { PRESSURE_SOLVER_CHOLMOD = 0, PRESSURE_SOLVER_CG = 1 };
+
+typedef struct params {
+    double re_density;
+    double re_laplacian;
+    double beta;
+    double gravity[2];
+    double dt;
+    double cfl;
+    double diffusion_number;
+    double dt_max;
+    double collision_distance;
+    double collision_restitution;
+    double ppe_relaxation;
+    double compressibility;
+    double clamp_negative_pressure;
+    double cg_tolerance;
+    double cg_max_iterations;
+    double pressure_limit;
+    double displacement_limit;
+    double neighbour_skin;
+    int pressure_solver;
+} params;
+
+void params_set_defaults(params *p);
+/* Validates and sets; writes a reason into message on failure. */
+int params_set(params *p, const char *key, double value, char *message, size_t size);
+int params_get(const params *p, const char *key, double *value);
+int params_set_option(params *p, const char *key, const char *value,
+                      char *message, size_t size);
+int params_get_option(const params *p, const char *key, const char **value);
+double params_max_radius(const params *p);
+
+/* ---- scene (scene.c) ---- */
+
+typedef struct fluid {
+    char name[FLUID_NAME_SIZE];
+    double density;
+    double viscosity;
+} fluid;
+
+enum { SOLID_FROM_BOX = 3 }; /* scene-only kind, classified at solver creation */
+
+struct mps2p_scene {
+    double l0;
+    params params;
+    fluid *fluids;
+    int fluid_count, fluid_capacity;
+    size_t count, capacity;
+    double *position;  /* 2 * count */
+    double *velocity;  /* 2 * count */
+    int *kind;         /* MPS2P_KIND_* or SOLID_FROM_BOX */
+    int *fluid_id;     /* -1 for solids */
+    int has_domain;
+    double domain[4];  /* xmin, ymin, xmax, ymax */
+    char error[ERROR_MESSAGE_SIZE];
+};
+
+/* ---- kernel and reference lattice (kernel.c) ---- */
+
+static inline double kernel_weight(double r, double re)
+{
+    return (r > 0.0 && r < re) ? re / r - 1.0 : 0.0;
+}
+
+/* n0 and lambda of an interior particle of the square lattice of spacing l0. */
+void lattice_constants(double l0, double re, double *n0, double *lambda);
+
+/* ---- neighbour list (neighbours.c) ---- */
+
+/* Every pair closer than cutoff = max radius + skin, kept as a compressed
+ * row list (both directions, ordered by index); rebuilt when a particle has
+ * moved more than skin / 2 since the last build, so each stage can reuse it. */
+typedef struct neighbour_list {
+    double cutoff, skin;
+    size_t count;
+    size_t *start;       /* count + 1 */
+    size_t *index;       /* start[count] entries */
+    size_t capacity;
+    double *built_at;    /* positions at the last build, 2 * count */
+    /* cell grid over the domain */
+    double origin[2];
+    double cell_size;
+    size_t cells[2];
+    size_t *cell_start;  /* cells + 1 */
+    size_t *cell_cursor; /* cells, fill position while sorting */
+    size_t *cell_particle;
+    size_t *particle_cell;
+    unsigned long builds;
+} neighbour_list;
+
+int neighbours_init(neighbour_list *list, size_t count, double cutoff, double skin,
+                    const double domain[4]);
+void neighbours_free(neighbour_list *list);
+/* Rebuilds when needed; returns MPS2P_OK or MPS2P_ERR_NOMEM. */
+int neighbours_update(neighbour_list *list, const double *position);
+
+/* ---- linear solvers (linear_solver.c) ---- */
+
+/* A symmetric matrix in compressed rows, full pattern (both triangles). */
+typedef struct sparse_matrix {
+    int rows;
+    int *row_start;      /* rows + 1; int, as CHOLMOD's int interface wants */
+    int *column;
+    double *value;
+    size_t capacity;     /* of column and value */
+    size_t row_capacity; /* of row_start */
+} sparse_matrix;
+
+typedef struct linear_solver linear_solver;
+
+int linear_solver_create(int kind, linear_solver **solver);
+void linear_solver_destroy(linear_solver *solver);
+/* Solves A x = b; x holds the initial guess on entry (used by CG). */
+int linear_solver_solve(linear_solver *solver, const sparse_matrix *a,
+                        const double *b, double *x, double tolerance,
+                        size_t max_iterations, size_t *iterations,
+                        double *residual, char *message, size_t size);
+
+/* ---- solver state (solver.c and the stages) ---- */
+
+typedef struct particle_state {
+    double *position;  /* 2n */
+    double *velocity;  /* 2n */
+    double *pressure;  /* n  */
+} particle_state;
+
+struct mps2p_solver {
+    double l0;
+    params params;
+    fluid *fluids;
+    int fluid_count;
+    size_t count;
+    int *kind;
+    int *fluid_id;
+    double *density;        /* per particle; walls take the heaviest fluid's */
+    double *viscosity;      /* per particle; 0 for walls */
+    particle_state state;
+    particle_state saved;   /* state before the current step, for rollback */
+    double *number_density; /* n* of the last step */
+    double *scratch;        /* 2n, stage workspace */
+    unsigned char *on_surface;
+    neighbour_list neighbours;
+
+    /* derived constants */
+    double n0_density, n0_laplacian, lambda;
+    double domain[4];
+    double dt_max, pressure_limit;
+
+    /* pressure solve */
+    sparse_matrix matrix;
+    double *rhs, *solution;
+    long *unknown_of;       /* particle -> unknown index or -1 */
+    linear_solver *linear;
+
+    /* time and statistics */
+    double time, last_dt;
+    uint64_t steps;
+    size_t ppe_unknowns, ppe_iterations, surface_particles;
+    double ppe_residual;
+    int diverged;
+    char error[ERROR_MESSAGE_SIZE];
+};
+
+/* ---- MPS operators at particle i (operators.c) ---- */
+/* (d / n0) sum_j (f_j - reference) r_ij w / |r_ij|^2 over non-dummy neighbours. */
+void gradient_at(const mps2p_solver *s, size_t i, const double *field, double reference,
+                 double out[2]);
+/* min(f_i, min_j f_j) over non-dummy neighbours within the density radius. */
+double minimum_around(const mps2p_solver *s, size_t i, const double *field);
+/* (2d / (lambda n0)) sum_j (f_j - f_i) w, per component of an interleaved field. */
+void laplacian_at(const mps2p_solver *s, size_t i, const double *field, size_t components,
+                  double *out);
+
+/* ---- stages, in the order of a step ---- */
+double timestep_choose(const mps2p_solver *s);                   /* timestep.c */
+void explicit_forces(mps2p_solver *s, double dt);                 /* explicit_forces.c */
+void collision_apply(mps2p_solver *s, double dt);                 /* collision.c */
+void number_density_compute(mps2p_solver *s);                     /* number_density.c */
+void free_surface_detect(mps2p_solver *s);                        /* free_surface.c */
+int pressure_solve(mps2p_solver *s, double dt);                   /* pressure.c */
+void pressure_correct(mps2p_solver *s, double dt);                /* correction.c */
+int divergence_check(mps2p_solver *s, double dt);                 /* divergence.c */
+
+#endif

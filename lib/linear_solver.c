@@ -1,0 +1,244 @@
+/* The pressure system's solvers: CHOLMOD (sparse Cholesky) or conjugate
+ * gradients with a Jacobi preconditioner. Neither prints nor aborts: errors
+ * come back as status codes with a message. */
+#include "internal.h"
+
+#include <cholmod.h>
+#include <gsl/gsl_blas.h>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_vector.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+struct linear_solver {
+    int kind;
+    cholmod_common common;
+    double *work; /* 5 vectors for CG; the first also serves the residual */
+    size_t work_size;
+};
+
+/* GSL's default handler aborts the process, and it is process-wide: turn it
+ * off once. libmps2p checks every GSL return value itself. */
+static pthread_once_t gsl_handler_once = PTHREAD_ONCE_INIT;
+static void gsl_handler_off(void) { gsl_set_error_handler_off(); }
+
+int linear_solver_create(int kind, linear_solver **out)
+{
+    pthread_once(&gsl_handler_once, gsl_handler_off);
+    linear_solver *ls = calloc(1, sizeof *ls);
+    if (!ls)
+        return MPS2P_ERR_NOMEM;
+    ls->kind = kind;
+    if (kind == PRESSURE_SOLVER_CHOLMOD) {
+        if (!cholmod_start(&ls->common)) {
+            free(ls);
+            return MPS2P_ERR_NOMEM;
+        }
+        ls->common.print = 0;            /* never print from a library */
+        ls->common.error_handler = NULL; /* errors come back in common.status */
+    }
+    *out = ls;
+    return MPS2P_OK;
+}
+
+void linear_solver_destroy(linear_solver *ls)
+{
+    if (!ls)
+        return;
+    if (ls->kind == PRESSURE_SOLVER_CHOLMOD)
+        cholmod_finish(&ls->common);
+    free(ls->work);
+    free(ls);
+}
+
+static void multiply(const sparse_matrix *a, const double *x, double *y)
+{
+    for (int i = 0; i < a->rows; i++) {
+        double sum = 0.0;
+        for (int k = a->row_start[i]; k < a->row_start[i + 1]; k++)
+            sum += a->value[k] * x[a->column[k]];
+        y[i] = sum;
+    }
+}
+
+static double relative_residual(const sparse_matrix *a, const double *b, const double *x,
+                                double *work)
+{
+    multiply(a, x, work);
+    double r2 = 0.0, b2 = 0.0;
+    for (int i = 0; i < a->rows; i++) {
+        double r = b[i] - work[i];
+        r2 += r * r;
+        b2 += b[i] * b[i];
+    }
+    return b2 > 0.0 ? sqrt(r2 / b2) : sqrt(r2);
+}
+
+static int ensure_work(linear_solver *ls, size_t rows)
+{
+    if (ls->work_size >= 5 * rows)
+        return MPS2P_OK;
+    double *work = realloc(ls->work, 5 * rows * sizeof *work);
+    if (!work)
+        return MPS2P_ERR_NOMEM;
+    ls->work = work;
+    ls->work_size = 5 * rows;
+    return MPS2P_OK;
+}
+
+static int solve_cholmod(linear_solver *ls, const sparse_matrix *a, const double *b,
+                         double *x, char *message, size_t size)
+{
+    cholmod_common *c = &ls->common;
+    /* Compressed rows of a symmetric matrix are its compressed columns;
+     * stype = 1 tells CHOLMOD to read the upper triangle only. */
+    cholmod_sparse matrix = {0};
+    matrix.nrow = matrix.ncol = (size_t)a->rows;
+    matrix.nzmax = (size_t)a->row_start[a->rows];
+    matrix.p = a->row_start;
+    matrix.i = a->column;
+    matrix.x = a->value;
+    matrix.stype = 1;
+    matrix.itype = CHOLMOD_INT;
+    matrix.xtype = CHOLMOD_REAL;
+    matrix.dtype = CHOLMOD_DOUBLE;
+    matrix.sorted = 1;
+    matrix.packed = 1;
+
+    cholmod_factor *factor = cholmod_analyze(&matrix, c);
+    if (!factor) {
+        snprintf(message, size, "CHOLMOD analysis failed (status %d)", c->status);
+        return c->status == CHOLMOD_OUT_OF_MEMORY ? MPS2P_ERR_NOMEM : MPS2P_ERR_SOLVE;
+    }
+    cholmod_factorize(&matrix, factor, c);
+    if (c->status != CHOLMOD_OK || factor->minor < factor->n) {
+        snprintf(message, size,
+                 "CHOLMOD factorization failed: %s (status %d, pivot %zu of %zu)",
+                 c->status == CHOLMOD_NOT_POSDEF || factor->minor < factor->n
+                     ? "matrix not positive definite"
+                     : "error",
+                 c->status, (size_t)factor->minor, (size_t)factor->n);
+        int status = c->status == CHOLMOD_OUT_OF_MEMORY ? MPS2P_ERR_NOMEM : MPS2P_ERR_SOLVE;
+        cholmod_free_factor(&factor, c);
+        return status;
+    }
+    cholmod_dense rhs = {0};
+    rhs.nrow = rhs.d = rhs.nzmax = (size_t)a->rows;
+    rhs.ncol = 1;
+    rhs.x = (void *)b;
+    rhs.xtype = CHOLMOD_REAL;
+    rhs.dtype = CHOLMOD_DOUBLE;
+    cholmod_dense *solution = cholmod_solve(CHOLMOD_A, factor, &rhs, c);
+    cholmod_free_factor(&factor, c);
+    if (!solution) {
+        snprintf(message, size, "CHOLMOD solve failed (status %d)", c->status);
+        return c->status == CHOLMOD_OUT_OF_MEMORY ? MPS2P_ERR_NOMEM : MPS2P_ERR_SOLVE;
+    }
+    const double *values = solution->x;
+    for (int i = 0; i < a->rows; i++)
+        x[i] = values[i];
+    cholmod_free_dense(&solution, c);
+    return MPS2P_OK;
+}
+
+static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, double *x,
+                    double tolerance, size_t max_iterations, size_t *iterations,
+                    char *message, size_t size)
+{
+    const size_t n = (size_t)a->rows;
+    double *r = ls->work, *z = r + n, *p = z + n, *q = p + n, *inverse_diagonal = q + n;
+    gsl_vector_view rv = gsl_vector_view_array(r, n), zv = gsl_vector_view_array(z, n);
+    gsl_vector_view pv = gsl_vector_view_array(p, n), qv = gsl_vector_view_array(q, n);
+    gsl_vector_view xv = gsl_vector_view_array(x, n);
+    gsl_vector_const_view bv = gsl_vector_const_view_array(b, n);
+
+    double b_norm = gsl_blas_dnrm2(&bv.vector);
+    if (b_norm == 0.0) {
+        gsl_vector_set_zero(&xv.vector);
+        *iterations = 0;
+        return MPS2P_OK;
+    }
+    multiply(a, x, q);
+    for (size_t i = 0; i < n; i++)
+        r[i] = b[i] - q[i];
+    /* Jacobi preconditioner: the inverse of each row's diagonal entry */
+    for (size_t i = 0; i < n; i++) {
+        double d = 0.0;
+        for (int k = a->row_start[i]; k < a->row_start[i + 1]; k++)
+            if ((size_t)a->column[k] == i)
+                d = a->value[k];
+        if (!(d > 0.0)) {
+            snprintf(message, size, "CG: diagonal entry %zu is %g, not positive", i, d);
+            return MPS2P_ERR_SOLVE;
+        }
+        inverse_diagonal[i] = 1.0 / d;
+        z[i] = r[i] * inverse_diagonal[i];
+        p[i] = z[i];
+    }
+    double rz = 0.0;
+    int gsl_status = gsl_blas_ddot(&rv.vector, &zv.vector, &rz);
+    size_t k = 0;
+    int status = MPS2P_ERR_SOLVE;
+    while (gsl_status == GSL_SUCCESS) {
+        if (gsl_blas_dnrm2(&rv.vector) <= tolerance * b_norm) {
+            status = MPS2P_OK;
+            break;
+        }
+        if (k >= max_iterations)
+            break;
+        multiply(a, p, q);
+        double pq = 0.0;
+        gsl_status = gsl_blas_ddot(&pv.vector, &qv.vector, &pq);
+        if (gsl_status != GSL_SUCCESS || !(pq > 0.0))
+            break;
+        double alpha = rz / pq;
+        gsl_blas_daxpy(alpha, &pv.vector, &xv.vector);
+        gsl_blas_daxpy(-alpha, &qv.vector, &rv.vector);
+        for (size_t i = 0; i < n; i++)
+            z[i] = r[i] * inverse_diagonal[i];
+        double rz_next = 0.0;
+        gsl_status = gsl_blas_ddot(&rv.vector, &zv.vector, &rz_next);
+        double beta = rz_next / rz;
+        rz = rz_next;
+        gsl_vector_scale(&pv.vector, beta);
+        gsl_vector_add(&pv.vector, &zv.vector);
+        k++;
+    }
+    *iterations = k;
+    if (status != MPS2P_OK)
+        snprintf(message, size,
+                 "CG did not converge: %zu iterations, residual %g of |b|, tolerance %g%s",
+                 k, gsl_blas_dnrm2(&rv.vector) / b_norm, tolerance,
+                 gsl_status != GSL_SUCCESS ? " (GSL error)" : "");
+    return status;
+}
+
+int linear_solver_solve(linear_solver *ls, const sparse_matrix *a, const double *b,
+                        double *x, double tolerance, size_t max_iterations,
+                        size_t *iterations, double *residual, char *message, size_t size)
+{
+    *iterations = 0;
+    *residual = 0.0;
+    if (ensure_work(ls, (size_t)a->rows) != MPS2P_OK) {
+        snprintf(message, size, "out of memory for solver work space");
+        return MPS2P_ERR_NOMEM;
+    }
+    int status = ls->kind == PRESSURE_SOLVER_CHOLMOD
+                     ? solve_cholmod(ls, a, b, x, message, size)
+                     : solve_cg(ls, a, b, x, tolerance, max_iterations, iterations,
+                                message, size);
+    if (status != MPS2P_OK)
+        return status;
+    *residual = relative_residual(a, b, x, ls->work);
+    /* A direct solve of an SPD system is accurate to rounding; anything else
+     * means the factorization went wrong. */
+    double accepted = ls->kind == PRESSURE_SOLVER_CHOLMOD ? 1e-6 : 10.0 * tolerance + 1e-12;
+    if (!(*residual <= accepted)) {
+        snprintf(message, size, "solution has relative residual %g (accepted %g)",
+                 *residual, accepted);
+        return MPS2P_ERR_SOLVE;
+    }
+    return MPS2P_OK;
+}

@@ -1,0 +1,69 @@
+/* The MPS particle operators (METHOD.md section 1), at one particle. */
+#include "internal.h"
+
+#include <math.h>
+
+void gradient_at(const mps2p_solver *s, size_t i, const double *field, double reference,
+                 double out[2])
+{
+    const double re = s->params.re_density * s->l0, re2 = re * re;
+    const neighbour_list *nl = &s->neighbours;
+    const double *position = s->state.position;
+    double gx = 0.0, gy = 0.0;
+    for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
+        size_t j = nl->index[k];
+        if (s->kind[j] == MPS2P_KIND_DUMMY)
+            continue;
+        double dx = position[2 * j] - position[2 * i];
+        double dy = position[2 * j + 1] - position[2 * i + 1];
+        double r2 = dx * dx + dy * dy;
+        if (r2 >= re2 || r2 <= 0.0)
+            continue;
+        double f = (field[j] - reference) / r2 * kernel_weight(sqrt(r2), re);
+        gx += f * dx;
+        gy += f * dy;
+    }
+    out[0] = 2.0 / s->n0_density * gx;
+    out[1] = 2.0 / s->n0_density * gy;
+}
+
+double minimum_around(const mps2p_solver *s, size_t i, const double *field)
+{
+    const double re = s->params.re_density * s->l0, re2 = re * re;
+    const neighbour_list *nl = &s->neighbours;
+    const double *position = s->state.position;
+    double minimum = field[i];
+    for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
+        size_t j = nl->index[k];
+        if (s->kind[j] == MPS2P_KIND_DUMMY)
+            continue;
+        double dx = position[2 * j] - position[2 * i];
+        double dy = position[2 * j + 1] - position[2 * i + 1];
+        if (dx * dx + dy * dy < re2 && field[j] < minimum)
+            minimum = field[j];
+    }
+    return minimum;
+}
+
+void laplacian_at(const mps2p_solver *s, size_t i, const double *field, size_t components,
+                  double *out)
+{
+    const double re = s->params.re_laplacian * s->l0;
+    const neighbour_list *nl = &s->neighbours;
+    const double *position = s->state.position;
+    const double factor = 2.0 * 2 / (s->lambda * s->n0_laplacian);
+    for (size_t c = 0; c < components; c++)
+        out[c] = 0.0;
+    for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
+        size_t j = nl->index[k];
+        double dx = position[2 * j] - position[2 * i];
+        double dy = position[2 * j + 1] - position[2 * i + 1];
+        double w = kernel_weight(sqrt(dx * dx + dy * dy), re);
+        if (w == 0.0)
+            continue;
+        for (size_t c = 0; c < components; c++)
+            out[c] += (field[components * j + c] - field[components * i + c]) * w;
+    }
+    for (size_t c = 0; c < components; c++)
+        out[c] *= factor;
+}

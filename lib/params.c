@@ -1,0 +1,161 @@
+/* The numeric parameters: names, defaults, documentation and valid ranges. */
+#include "internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+typedef struct param_entry {
+    const char *key;
+    size_t offset;
+    double default_value;
+    double min, max;   /* inclusive valid range */
+    const char *description;
+} param_entry;
+
+#define FIELD(name) offsetof(params, name)
+#define BIG 1e300
+
+static const param_entry table[] = {
+    {"re_density", FIELD(re_density), 2.1, 1.0, 10.0,
+     "radius of number density and gradient, in l0"},
+    {"re_laplacian", FIELD(re_laplacian), 4.0, 1.0, 10.0,
+     "radius of the Laplacian, in l0"},
+    {"beta", FIELD(beta), 0.97, 0.0, 1.0,
+     "free surface when the number density is below beta n0"},
+    {"gravity_x", FIELD(gravity[0]), 0.0, -BIG, BIG, "gravity, x (m/s^2)"},
+    {"gravity_y", FIELD(gravity[1]), -9.81, -BIG, BIG, "gravity, y (m/s^2)"},
+    {"dt", FIELD(dt), 0.0, 0.0, BIG, "fixed time step (s); 0 = adaptive"},
+    {"cfl", FIELD(cfl), 0.2, 1e-6, 1.0, "adaptive dt <= cfl l0 / max speed"},
+    {"diffusion_number", FIELD(diffusion_number), 0.2, 1e-6, 0.5,
+     "adaptive dt <= diffusion_number l0^2 / nu"},
+    {"dt_max", FIELD(dt_max), 0.0, 0.0, BIG,
+     "largest adaptive dt (s); 0 = cfl l0 / sqrt(2 |g| H), H the initial fluid height"},
+    {"collision_distance", FIELD(collision_distance), 0.5, 0.0, 1.0,
+     "too-close distance of the collision model, in l0; 0 = off"},
+    {"collision_restitution", FIELD(collision_restitution), 0.2, 0.0, 1.0,
+     "restitution coefficient of the collision model"},
+    {"ppe_relaxation", FIELD(ppe_relaxation), 0.2, 1e-6, 1.0,
+     "relaxation factor on the PPE source term"},
+    {"compressibility", FIELD(compressibility), 4.5e-10, 0.0, 1.0,
+     "compressibility on the PPE diagonal (1/Pa)"},
+    {"clamp_negative_pressure", FIELD(clamp_negative_pressure), 1.0, 0.0, 1.0,
+     "1 = negative pressures set to 0, 0 = kept"},
+    {"cg_tolerance", FIELD(cg_tolerance), 1e-9, 1e-16, 1e-1,
+     "relative residual of the CG pressure solver"},
+    {"cg_max_iterations", FIELD(cg_max_iterations), 0.0, 0.0, 1e9,
+     "CG iteration limit; 0 = 10 unknowns + 100"},
+    {"pressure_limit", FIELD(pressure_limit), 0.0, 0.0, BIG,
+     "|p| above it means diverged (Pa); 0 = 1000 rho_max max(|g| L, 1 m^2/s^2)"},
+    {"displacement_limit", FIELD(displacement_limit), 1.0, 0.0, BIG,
+     "a particle moving farther in one step means diverged, in l0; 0 = no check"},
+    {"neighbour_skin", FIELD(neighbour_skin), 0.4, 0.0, 5.0,
+     "extra radius of the neighbour list, in l0"},
+};
+
+#define TABLE_SIZE (sizeof table / sizeof table[0])
+
+static const param_entry *find(const char *key)
+{
+    for (size_t i = 0; i < TABLE_SIZE; i++)
+        if (strcmp(table[i].key, key) == 0)
+            return &table[i];
+    return NULL;
+}
+
+static double *slot(params *p, const param_entry *e)
+{
+    return (double *)((char *)p + e->offset);
+}
+
+void params_set_defaults(params *p)
+{
+    for (size_t i = 0; i < TABLE_SIZE; i++)
+        *slot(p, &table[i]) = table[i].default_value;
+    p->pressure_solver = PRESSURE_SOLVER_CHOLMOD;
+}
+
+int params_set(params *p, const char *key, double value, char *message, size_t size)
+{
+    const param_entry *e = find(key);
+    if (!e) {
+        snprintf(message, size, "unknown parameter \"%s\"", key);
+        return MPS2P_ERR_UNKNOWN_KEY;
+    }
+    if (!isfinite(value)) {
+        snprintf(message, size, "parameter %s must be finite, got %g", key, value);
+        return MPS2P_ERR_INVALID;
+    }
+    if (value < e->min || value > e->max) {
+        snprintf(message, size, "parameter %s must be in [%g, %g], got %g",
+                 key, e->min, e->max, value);
+        return MPS2P_ERR_INVALID;
+    }
+    if (strcmp(key, "cg_max_iterations") == 0 && value != floor(value)) {
+        snprintf(message, size, "parameter %s must be a whole number, got %g", key, value);
+        return MPS2P_ERR_INVALID;
+    }
+    if (strcmp(key, "clamp_negative_pressure") == 0 && value != 0.0 && value != 1.0) {
+        snprintf(message, size, "parameter %s must be 0 or 1, got %g", key, value);
+        return MPS2P_ERR_INVALID;
+    }
+    *slot(p, e) = value;
+    return MPS2P_OK;
+}
+
+int params_get(const params *p, const char *key, double *value)
+{
+    const param_entry *e = find(key);
+    if (!e)
+        return MPS2P_ERR_UNKNOWN_KEY;
+    *value = *slot((params *)p, e);
+    return MPS2P_OK;
+}
+
+static const char *solver_names[] = {"cholmod", "cg"};
+
+int params_set_option(params *p, const char *key, const char *value,
+                      char *message, size_t size)
+{
+    if (strcmp(key, "pressure_solver") != 0) {
+        snprintf(message, size, "unknown option \"%s\"", key);
+        return MPS2P_ERR_UNKNOWN_KEY;
+    }
+    for (int i = 0; i < 2; i++) {
+        if (strcmp(value, solver_names[i]) == 0) {
+            p->pressure_solver = i;
+            return MPS2P_OK;
+        }
+    }
+    snprintf(message, size, "option pressure_solver must be \"cholmod\" or \"cg\", got \"%s\"",
+             value);
+    return MPS2P_ERR_INVALID;
+}
+
+int params_get_option(const params *p, const char *key, const char **value)
+{
+    if (strcmp(key, "pressure_solver") != 0)
+        return MPS2P_ERR_UNKNOWN_KEY;
+    *value = solver_names[p->pressure_solver];
+    return MPS2P_OK;
+}
+
+double params_max_radius(const params *p)
+{
+    return fmax(p->re_density, p->re_laplacian);
+}
+
+int mps2p_param_info(size_t index, const char **key, const char **description,
+                     double *default_value)
+{
+    if (index >= TABLE_SIZE)
+        return fail(NULL, MPS2P_ERR_INVALID, "parameter index %zu is past the last (%zu)",
+                    index, TABLE_SIZE - 1);
+    if (key)
+        *key = table[index].key;
+    if (description)
+        *description = table[index].description;
+    if (default_value)
+        *default_value = table[index].default_value;
+    return MPS2P_OK;
+}

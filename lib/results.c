@@ -1,0 +1,163 @@
+/* Results: fields copied into caller buffers, and statistics by name. */
+#include "internal.h"
+
+#include <math.h>
+#include <string.h>
+
+#define CHECK_OUTPUT(s, out)                                                         \
+    do {                                                                             \
+        if (!(s))                                                                    \
+            return fail(NULL, MPS2P_ERR_NULL, "%s: solver is NULL", __func__);        \
+        if (!(out))                                                                  \
+            return fail(NULL, MPS2P_ERR_NULL, "%s: output pointer is NULL", __func__); \
+    } while (0)
+
+static int check_length(const char *what, size_t length, size_t needed)
+{
+    if (length < needed)
+        return fail(NULL, MPS2P_ERR_BUFFER, "%s: buffer holds %zu elements, %zu needed", what,
+                    length, needed);
+    return MPS2P_OK;
+}
+
+int mps2p_solver_particle_count(const mps2p_solver *s, size_t *count)
+{
+    CHECK_OUTPUT(s, count);
+    *count = s->count;
+    return MPS2P_OK;
+}
+
+static int copy_doubles(const char *what, const double *from, size_t n, double *out,
+                        size_t length)
+{
+    int status = check_length(what, length, n);
+    if (status == MPS2P_OK)
+        memcpy(out, from, n * sizeof *out);
+    return status;
+}
+
+int mps2p_solver_get_positions(const mps2p_solver *s, double *out, size_t length)
+{
+    CHECK_OUTPUT(s, out);
+    return copy_doubles("positions", s->state.position, 2 * s->count, out, length);
+}
+
+int mps2p_solver_get_velocities(const mps2p_solver *s, double *out, size_t length)
+{
+    CHECK_OUTPUT(s, out);
+    return copy_doubles("velocities", s->state.velocity, 2 * s->count, out, length);
+}
+
+int mps2p_solver_get_pressure(const mps2p_solver *s, double *out, size_t length)
+{
+    CHECK_OUTPUT(s, out);
+    return copy_doubles("pressure", s->state.pressure, s->count, out, length);
+}
+
+int mps2p_solver_get_number_density(const mps2p_solver *s, double *out, size_t length)
+{
+    CHECK_OUTPUT(s, out);
+    return copy_doubles("number density", s->number_density, s->count, out, length);
+}
+
+int mps2p_solver_get_kinds(const mps2p_solver *s, int *out, size_t length)
+{
+    CHECK_OUTPUT(s, out);
+    int status = check_length("kinds", length, s->count);
+    if (status == MPS2P_OK)
+        memcpy(out, s->kind, s->count * sizeof *out);
+    return status;
+}
+
+int mps2p_solver_get_fluid_ids(const mps2p_solver *s, int *out, size_t length)
+{
+    CHECK_OUTPUT(s, out);
+    int status = check_length("fluid ids", length, s->count);
+    if (status == MPS2P_OK)
+        memcpy(out, s->fluid_id, s->count * sizeof *out);
+    return status;
+}
+
+int mps2p_solver_get_time(const mps2p_solver *s, double *time)
+{
+    CHECK_OUTPUT(s, time);
+    *time = s->time;
+    return MPS2P_OK;
+}
+
+int mps2p_solver_get_step_count(const mps2p_solver *s, uint64_t *steps)
+{
+    CHECK_OUTPUT(s, steps);
+    *steps = s->steps;
+    return MPS2P_OK;
+}
+
+int mps2p_solver_get_last_dt(const mps2p_solver *s, double *dt)
+{
+    CHECK_OUTPUT(s, dt);
+    *dt = s->last_dt;
+    return MPS2P_OK;
+}
+
+/* Sums over fluid particles; mass per unit depth is rho l0^2. */
+static double fluid_sum(const mps2p_solver *s, const char *key)
+{
+    const double area = s->l0 * s->l0;
+    double result = 0.0;
+    for (size_t i = 0; i < s->count; i++) {
+        if (s->kind[i] != MPS2P_KIND_FLUID)
+            continue;
+        const double *u = &s->state.velocity[2 * i], *r = &s->state.position[2 * i];
+        double m = s->density[i] * area;
+        if (strcmp(key, "max_speed") == 0)
+            result = fmax(result, hypot(u[0], u[1]));
+        else if (strcmp(key, "kinetic_energy") == 0)
+            result += 0.5 * m * (u[0] * u[0] + u[1] * u[1]);
+        else
+            result -= m * (s->params.gravity[0] * r[0] + s->params.gravity[1] * r[1]);
+    }
+    return result;
+}
+
+static double pressure_extreme(const mps2p_solver *s, int want_max)
+{
+    double result = want_max ? -INFINITY : INFINITY;
+    for (size_t i = 0; i < s->count; i++) {
+        if (s->kind[i] == MPS2P_KIND_DUMMY)
+            continue;
+        double p = s->state.pressure[i];
+        result = want_max ? fmax(result, p) : fmin(result, p);
+    }
+    return result;
+}
+
+int mps2p_solver_get_stat(const mps2p_solver *s, const char *key, double *value)
+{
+    CHECK_OUTPUT(s, value);
+    if (!key)
+        return fail(NULL, MPS2P_ERR_NULL, "statistic key is NULL");
+    if (!strcmp(key, "max_speed") || !strcmp(key, "kinetic_energy") ||
+        !strcmp(key, "potential_energy"))
+        *value = fluid_sum(s, key);
+    else if (!strcmp(key, "pressure_min"))
+        *value = pressure_extreme(s, 0);
+    else if (!strcmp(key, "pressure_max"))
+        *value = pressure_extreme(s, 1);
+    else if (!strcmp(key, "ppe_unknowns"))
+        *value = (double)s->ppe_unknowns;
+    else if (!strcmp(key, "ppe_iterations"))
+        *value = (double)s->ppe_iterations;
+    else if (!strcmp(key, "ppe_residual"))
+        *value = s->ppe_residual;
+    else if (!strcmp(key, "surface_particles"))
+        *value = (double)s->surface_particles;
+    else if (!strcmp(key, "n0"))
+        *value = s->n0_density;
+    else if (!strcmp(key, "lambda"))
+        *value = s->lambda;
+    else if (!strcmp(key, "neighbour_builds"))
+        *value = (double)s->neighbours.builds;
+    else
+        return fail(NULL, MPS2P_ERR_UNKNOWN_KEY, "unknown statistic \"%s\"", key);
+    return MPS2P_OK;
+}

@@ -1,0 +1,375 @@
+/* The solver: built from a scene, stepped through the stages of one MPS step. */
+#include "internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define CLOSEST_ALLOWED 0.1 /* initial particles closer than this (in l0) are an error */
+
+static void free_state(particle_state *st)
+{
+    free(st->position);
+    free(st->velocity);
+    free(st->pressure);
+}
+
+static int alloc_state(particle_state *st, size_t n)
+{
+    st->position = malloc(2 * n * sizeof *st->position);
+    st->velocity = malloc(2 * n * sizeof *st->velocity);
+    st->pressure = calloc(n, sizeof *st->pressure);
+    return st->position && st->velocity && st->pressure ? MPS2P_OK : MPS2P_ERR_NOMEM;
+}
+
+void mps2p_solver_destroy(mps2p_solver *s)
+{
+    if (!s)
+        return;
+    free(s->fluids);
+    free(s->kind);
+    free(s->fluid_id);
+    free(s->density);
+    free(s->viscosity);
+    free_state(&s->state);
+    free_state(&s->saved);
+    free(s->number_density);
+    free(s->scratch);
+    free(s->on_surface);
+    neighbours_free(&s->neighbours);
+    free(s->matrix.row_start);
+    free(s->matrix.column);
+    free(s->matrix.value);
+    free(s->rhs);
+    free(s->solution);
+    free(s->unknown_of);
+    linear_solver_destroy(s->linear);
+    free(s);
+}
+
+const char *mps2p_solver_last_error(const mps2p_solver *s)
+{
+    return s ? s->error : "solver is NULL";
+}
+
+typedef struct lattice_key {
+    long x, y;
+    size_t particle;
+} lattice_key;
+
+static int compare_keys(const void *a, const void *b)
+{
+    const lattice_key *p = a, *q = b;
+    if (p->y != q->y)
+        return (p->y > q->y) - (p->y < q->y);
+    return (p->x > q->x) - (p->x < q->x);
+}
+
+/* Solid particles from wall boxes become walls when one of their 8 lattice
+ * neighbours is not solid (they face fluid or open space), dummies otherwise. */
+static int classify_solids(mps2p_solver *s, const mps2p_scene *scene)
+{
+    size_t solids = 0, first = 0;
+    for (size_t i = 0; i < s->count; i++)
+        if (scene->kind[i] != MPS2P_KIND_FLUID && solids++ == 0)
+            first = i;
+    if (solids == 0)
+        return MPS2P_OK;
+    lattice_key *keys = malloc(solids * sizeof *keys);
+    if (!keys)
+        return MPS2P_ERR_NOMEM;
+    /* Keys relative to one solid particle, so box lattices land on integers. */
+    const double x0 = scene->position[2 * first], y0 = scene->position[2 * first + 1];
+    size_t m = 0;
+    for (size_t i = 0; i < s->count; i++) {
+        if (scene->kind[i] == MPS2P_KIND_FLUID)
+            continue;
+        keys[m].x = lround((scene->position[2 * i] - x0) / s->l0);
+        keys[m].y = lround((scene->position[2 * i + 1] - y0) / s->l0);
+        keys[m].particle = i;
+        m++;
+    }
+    qsort(keys, solids, sizeof *keys, compare_keys);
+    for (size_t k = 0; k < solids; k++) {
+        size_t i = keys[k].particle;
+        if (scene->kind[i] != SOLID_FROM_BOX)
+            continue;
+        int exposed = 0;
+        for (int dy = -1; dy <= 1 && !exposed; dy++) {
+            for (int dx = -1; dx <= 1 && !exposed; dx++) {
+                if (dx == 0 && dy == 0)
+                    continue;
+                lattice_key probe = {keys[k].x + dx, keys[k].y + dy, 0};
+                if (!bsearch(&probe, keys, solids, sizeof *keys, compare_keys))
+                    exposed = 1;
+            }
+        }
+        s->kind[i] = exposed ? MPS2P_KIND_WALL : MPS2P_KIND_DUMMY;
+    }
+    free(keys);
+    return MPS2P_OK;
+}
+
+static void default_domain(const mps2p_scene *scene, double domain[4])
+{
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (size_t i = 0; i < scene->count; i++)
+        for (int d = 0; d < 2; d++) {
+            lo[d] = fmin(lo[d], scene->position[2 * i + d]);
+            hi[d] = fmax(hi[d], scene->position[2 * i + d]);
+        }
+    for (int d = 0; d < 2; d++) {
+        double extent = fmax(hi[d] - lo[d], scene->l0);
+        domain[d] = lo[d] - extent;
+        domain[d + 2] = hi[d] + extent;
+    }
+}
+
+/* Derived time-step and divergence bounds; see the header for the formulas. */
+static void derive_bounds(mps2p_solver *s)
+{
+    double lo = INFINITY, hi = -INFINITY, max_speed = 0.0, rho_max = 0.0;
+    double box_lo[2] = {INFINITY, INFINITY}, box_hi[2] = {-INFINITY, -INFINITY};
+    for (size_t i = 0; i < s->count; i++) {
+        for (int d = 0; d < 2; d++) {
+            box_lo[d] = fmin(box_lo[d], s->state.position[2 * i + d]);
+            box_hi[d] = fmax(box_hi[d], s->state.position[2 * i + d]);
+        }
+        if (s->kind[i] != MPS2P_KIND_FLUID)
+            continue;
+        lo = fmin(lo, s->state.position[2 * i + 1]);
+        hi = fmax(hi, s->state.position[2 * i + 1]);
+        max_speed = fmax(max_speed, hypot(s->state.velocity[2 * i], s->state.velocity[2 * i + 1]));
+        rho_max = fmax(rho_max, s->density[i]);
+    }
+    double g = hypot(s->params.gravity[0], s->params.gravity[1]);
+    double fluid_height = hi - lo + s->l0;
+    double reference_speed = fmax(sqrt(2.0 * g * fluid_height), max_speed);
+    if (reference_speed == 0.0)
+        reference_speed = 1.0; /* nothing moves and nothing pulls: any scale will do */
+    s->dt_max = s->params.dt_max > 0.0 ? s->params.dt_max
+                                       : s->params.cfl * s->l0 / reference_speed;
+    double extent = fmax(box_hi[0] - box_lo[0], box_hi[1] - box_lo[1]) + s->l0;
+    s->pressure_limit = s->params.pressure_limit > 0.0
+                            ? s->params.pressure_limit
+                            : 1000.0 * rho_max * fmax(g * extent, 1.0);
+}
+
+static int check_spacing(const mps2p_solver *s)
+{
+    const neighbour_list *nl = &s->neighbours;
+    const double closest = CLOSEST_ALLOWED * s->l0;
+    for (size_t i = 0; i < s->count; i++) {
+        for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
+            size_t j = nl->index[k];
+            double d = hypot(s->state.position[2 * j] - s->state.position[2 * i],
+                             s->state.position[2 * j + 1] - s->state.position[2 * i + 1]);
+            if (j > i && d < closest)
+                return fail(NULL, MPS2P_ERR_INVALID,
+                            "particles %zu and %zu are %g l0 apart at (%g, %g), closer than "
+                            "%g l0 (overlapping boxes?)",
+                            i, j, d / s->l0, s->state.position[2 * i],
+                            s->state.position[2 * i + 1], CLOSEST_ALLOWED);
+        }
+    }
+    return MPS2P_OK;
+}
+
+static int build(mps2p_solver *s, const mps2p_scene *scene)
+{
+    const size_t n = scene->count;
+    s->l0 = scene->l0;
+    s->params = scene->params;
+    s->count = n;
+    s->fluid_count = scene->fluid_count;
+    s->fluids = malloc((size_t)scene->fluid_count * sizeof *s->fluids);
+    s->kind = malloc(n * sizeof *s->kind);
+    s->fluid_id = malloc(n * sizeof *s->fluid_id);
+    s->density = malloc(n * sizeof *s->density);
+    s->viscosity = malloc(n * sizeof *s->viscosity);
+    s->number_density = calloc(n, sizeof *s->number_density);
+    s->scratch = malloc(2 * n * sizeof *s->scratch);
+    s->on_surface = calloc(n, sizeof *s->on_surface);
+    s->rhs = malloc(n * sizeof *s->rhs);
+    s->solution = malloc(n * sizeof *s->solution);
+    s->unknown_of = malloc(n * sizeof *s->unknown_of);
+    if (!s->fluids || !s->kind || !s->fluid_id || !s->density || !s->viscosity ||
+        !s->number_density || !s->scratch || !s->on_surface || !s->rhs || !s->solution ||
+        !s->unknown_of || alloc_state(&s->state, n) != MPS2P_OK ||
+        alloc_state(&s->saved, n) != MPS2P_OK)
+        return fail(NULL, MPS2P_ERR_NOMEM, "out of memory creating a solver for %zu particles", n);
+    memcpy(s->fluids, scene->fluids, (size_t)scene->fluid_count * sizeof *s->fluids);
+    memcpy(s->state.position, scene->position, 2 * n * sizeof *s->state.position);
+    memcpy(s->state.velocity, scene->velocity, 2 * n * sizeof *s->state.velocity);
+    memcpy(s->kind, scene->kind, n * sizeof *s->kind);
+    memcpy(s->fluid_id, scene->fluid_id, n * sizeof *s->fluid_id);
+    if (classify_solids(s, scene) != MPS2P_OK)
+        return fail(NULL, MPS2P_ERR_NOMEM, "out of memory classifying wall particles");
+
+    double heaviest = 0.0;
+    for (int f = 0; f < s->fluid_count; f++)
+        heaviest = fmax(heaviest, s->fluids[f].density);
+    for (size_t i = 0; i < n; i++) {
+        int fluid = s->kind[i] == MPS2P_KIND_FLUID;
+        s->density[i] = fluid ? s->fluids[s->fluid_id[i]].density : heaviest;
+        s->viscosity[i] = fluid ? s->fluids[s->fluid_id[i]].viscosity : 0.0;
+    }
+
+    double unused;
+    lattice_constants(s->l0, s->params.re_density, &s->n0_density, &unused);
+    lattice_constants(s->l0, s->params.re_laplacian, &s->n0_laplacian, &s->lambda);
+    if (scene->has_domain)
+        memcpy(s->domain, scene->domain, sizeof s->domain);
+    else
+        default_domain(scene, s->domain);
+    derive_bounds(s);
+
+    double cutoff = (params_max_radius(&s->params) + s->params.neighbour_skin) * s->l0;
+    if (neighbours_init(&s->neighbours, n, cutoff, s->params.neighbour_skin * s->l0,
+                        s->domain) != MPS2P_OK ||
+        neighbours_update(&s->neighbours, s->state.position) != MPS2P_OK)
+        return fail(NULL, MPS2P_ERR_NOMEM, "out of memory for the neighbour list");
+    int status = linear_solver_create(s->params.pressure_solver, &s->linear);
+    if (status != MPS2P_OK)
+        return fail(NULL, status, "out of memory starting the pressure solver");
+    number_density_compute(s);
+    return MPS2P_OK;
+}
+
+int mps2p_solver_create(const mps2p_scene *scene, mps2p_solver **solver)
+{
+    if (!solver)
+        return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_create: solver output pointer is NULL");
+    *solver = NULL;
+    if (!scene)
+        return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_create: scene is NULL");
+    size_t fluid_particles = 0;
+    for (size_t i = 0; i < scene->count; i++)
+        fluid_particles += scene->kind[i] == MPS2P_KIND_FLUID;
+    if (fluid_particles == 0)
+        return fail(NULL, MPS2P_ERR_STATE,
+                    "scene has no fluid particles (%zu particles in all): add a fluid box "
+                    "or fluid particles first", scene->count);
+    if (scene->has_domain) {
+        for (size_t i = 0; i < scene->count; i++) {
+            double x = scene->position[2 * i], y = scene->position[2 * i + 1];
+            if (x < scene->domain[0] || x > scene->domain[2] || y < scene->domain[1] ||
+                y > scene->domain[3])
+                return fail(NULL, MPS2P_ERR_INVALID,
+                            "particle %zu at (%g, %g) is outside the domain [%g, %g] x [%g, %g]",
+                            i, x, y, scene->domain[0], scene->domain[2], scene->domain[1],
+                            scene->domain[3]);
+        }
+    }
+    mps2p_solver *s = calloc(1, sizeof *s);
+    if (!s)
+        return fail(NULL, MPS2P_ERR_NOMEM, "out of memory creating a solver");
+    int status = build(s, scene);
+    if (status == MPS2P_OK)
+        status = check_spacing(s);
+    if (status != MPS2P_OK) {
+        mps2p_solver_destroy(s);
+        return status;
+    }
+    *solver = s;
+    return MPS2P_OK;
+}
+
+static void save_state(mps2p_solver *s)
+{
+    memcpy(s->saved.position, s->state.position, 2 * s->count * sizeof(double));
+    memcpy(s->saved.velocity, s->state.velocity, 2 * s->count * sizeof(double));
+    memcpy(s->saved.pressure, s->state.pressure, s->count * sizeof(double));
+}
+
+static void restore_state(mps2p_solver *s)
+{
+    memcpy(s->state.position, s->saved.position, 2 * s->count * sizeof(double));
+    memcpy(s->state.velocity, s->saved.velocity, 2 * s->count * sizeof(double));
+    memcpy(s->state.pressure, s->saved.pressure, s->count * sizeof(double));
+}
+
+static int update_neighbours(mps2p_solver *s)
+{
+    if (neighbours_update(&s->neighbours, s->state.position) != MPS2P_OK)
+        return fail(s->error, MPS2P_ERR_NOMEM,
+                    "step %llu at t = %.6g s: out of memory for the neighbour list",
+                    (unsigned long long)s->steps + 1, s->time);
+    return MPS2P_OK;
+}
+
+/* One MPS step of length dt (METHOD.md section 1, fig. 1 of the paper). */
+static int step_with(mps2p_solver *s, double dt)
+{
+    if (s->diverged)
+        return fail(s->error, MPS2P_ERR_STATE,
+                    "the solver diverged at t = %.6g s; it keeps its last good state but "
+                    "cannot step further", s->time);
+    save_state(s);
+    int status = update_neighbours(s);
+    if (status == MPS2P_OK) {
+        explicit_forces(s, dt);
+        status = update_neighbours(s);
+    }
+    if (status == MPS2P_OK) {
+        collision_apply(s, dt);
+        status = update_neighbours(s);
+    }
+    if (status == MPS2P_OK) {
+        number_density_compute(s);
+        free_surface_detect(s);
+        status = pressure_solve(s, dt);
+    }
+    if (status == MPS2P_OK) {
+        pressure_correct(s, dt);
+        status = divergence_check(s, dt);
+        if (status == MPS2P_ERR_DIVERGED)
+            s->diverged = 1;
+    }
+    if (status != MPS2P_OK) {
+        restore_state(s);
+        return status;
+    }
+    s->time += dt;
+    s->last_dt = dt;
+    s->steps++;
+    return MPS2P_OK;
+}
+
+int mps2p_solver_step(mps2p_solver *s)
+{
+    if (!s)
+        return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_step: solver is NULL");
+    return step_with(s, timestep_choose(s));
+}
+
+int mps2p_solver_advance_to(mps2p_solver *s, double end_time, mps2p_progress_fn progress,
+                            void *user_data)
+{
+    if (!s)
+        return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_advance_to: solver is NULL");
+    if (!isfinite(end_time) || end_time < s->time)
+        return fail(s->error, MPS2P_ERR_INVALID,
+                    "end time must be finite and not before the current time %.9g s, got %g",
+                    s->time, end_time);
+    const double tolerance = 1e-12 * fmax(1.0, fabs(end_time));
+    while (end_time - s->time > tolerance) {
+        double dt = timestep_choose(s);
+        double remaining = end_time - s->time;
+        int last = 0;
+        if (remaining <= dt * (1.0 + 1e-9)) {
+            dt = remaining;
+            last = 1;
+        } else if (remaining < 2.0 * dt) {
+            dt = 0.5 * remaining; /* two halves rather than a sliver at the end */
+        }
+        int status = step_with(s, dt);
+        if (status != MPS2P_OK)
+            return status;
+        if (last)
+            s->time = end_time; /* land exactly, without rounding drift */
+        if (progress && progress(s, user_data))
+            return MPS2P_STOPPED;
+    }
+    return MPS2P_OK;
+}

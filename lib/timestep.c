@@ -1,0 +1,24 @@
+/* Time step: fixed, or adaptive under the CFL and viscous diffusion limits. */
+#include "internal.h"
+
+#include <math.h>
+
+double timestep_choose(const mps2p_solver *s)
+{
+    if (s->params.dt > 0.0)
+        return s->params.dt;
+    double dt = s->dt_max;
+    double max_speed2 = 0.0, max_viscosity = 0.0;
+    for (size_t i = 0; i < s->count; i++) {
+        if (s->kind[i] != MPS2P_KIND_FLUID)
+            continue;
+        const double *u = &s->state.velocity[2 * i];
+        max_speed2 = fmax(max_speed2, u[0] * u[0] + u[1] * u[1]);
+        max_viscosity = fmax(max_viscosity, s->viscosity[i]);
+    }
+    if (max_speed2 > 0.0)
+        dt = fmin(dt, s->params.cfl * s->l0 / sqrt(max_speed2));
+    if (max_viscosity > 0.0)
+        dt = fmin(dt, s->params.diffusion_number * s->l0 * s->l0 / max_viscosity);
+    return dt;
+}

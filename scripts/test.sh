@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# The README's test command: every test, under AddressSanitizer and
+# UndefinedBehaviorSanitizer, then the installed library as an outside
+# program sees it (pkg-config, exported symbols).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+
+echo "== sanitizer build (address, undefined) and tests"
+[ -d build-sanitize ] || meson setup build-sanitize -Db_sanitize=address,undefined \
+    -Db_lundef=false --buildtype=debugoptimized >/dev/null
+ninja --quiet -C build-sanitize
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+log=$(mktemp)
+meson test -C build-sanitize --suite fast --suite validation --print-errorlogs \
+    --timeout-multiplier 3 | tee "$log"
+passed=$(awk '/^Ok:/ {print $2}' "$log")
+rm -f "$log"
+
+echo "== release build, install, and an outside program"
+prefix=$(mktemp -d)
+[ -d build-release ] || meson setup build-release --buildtype=release --prefix="$prefix" >/dev/null
+meson configure build-release --prefix="$prefix" >/dev/null
+ninja --quiet -C build-release
+meson install -C build-release --quiet >/dev/null
+libdir=$(dirname "$(find "$prefix" -name mps2p.pc | head -n1)")
+export PKG_CONFIG_PATH="$libdir${PKG_CONFIG_PATH:+:$PKG_CONFIG_PATH}"
+out=$(mktemp -d)
+cc -std=c11 -Wall -Wextra -Werror tests/consumer/consumer.c -o "$out/consumer" \
+    $(pkg-config --cflags --libs mps2p) -lm -Wl,-rpath,"$(pkg-config --variable=libdir mps2p)"
+"$out/consumer"
+
+echo "== exported symbols"
+so=$(find "$prefix" -name 'libmps2p.so.0' | head -n1)
+objdump -p "$so" | grep -q 'SONAME *libmps2p.so.0' || { echo "SONAME is not libmps2p.so.0"; exit 1; }
+foreign=$(nm -D --defined-only "$so" | awk '{print $3}' | grep -v '^mps2p_' || true)
+if [ -n "$foreign" ]; then
+    echo "exported symbols without the mps2p_ prefix:"; echo "$foreign"; exit 1
+fi
+echo "only mps2p_ symbols exported ($(nm -D --defined-only "$so" | wc -l) of them)"
+rm -rf "$prefix" "$out"
+# meson's tests, plus the outside-program and exported-symbol checks above
+echo "$((passed + 2)) passed, 0 failed"

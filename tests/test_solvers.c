@@ -1,0 +1,99 @@
+/* The pressure solve: CHOLMOD and CG agree; a fluid with no free surface is
+ * still solvable; a CG that cannot converge is an error, not NaN. */
+#include <string.h>
+#include "scenes.h"
+
+static double *pressure_after_one_step(mps2p_scene *scene, const char *method, size_t *n)
+{
+    mps2p_solver *solver;
+    MUST(mps2p_scene_set_option(scene, "pressure_solver", method));
+    MUST(mps2p_solver_create(scene, &solver));
+    MUST(mps2p_solver_step(solver));
+    MUST(mps2p_solver_particle_count(solver, n));
+    double *p = malloc(*n * sizeof *p);
+    MUST(mps2p_solver_get_pressure(solver, p, *n));
+    double residual;
+    MUST(mps2p_solver_get_stat(solver, "ppe_residual", &residual));
+    printf("%s: relative residual %.3g\n", method, residual);
+    mps2p_solver_destroy(solver);
+    return p;
+}
+
+int main(void)
+{
+    /* 1. same system, two solvers */
+    mps2p_scene *scene = tank_scene(0.01, 0.2, 0.2);
+    size_t n;
+    double *direct = pressure_after_one_step(scene, "cholmod", &n);
+    double *iterative = pressure_after_one_step(scene, "cg", &n);
+    double worst = 0.0, largest = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        worst = fmax(worst, fabs(direct[i] - iterative[i]));
+        largest = fmax(largest, fabs(direct[i]));
+    }
+    printf("cholmod vs cg: largest difference %.3g Pa of %.3g Pa\n", worst, largest);
+    CHECK(largest > 0.0, "no pressure at all after a step under gravity");
+    CHECK(worst <= 1e-6 * largest, "solvers differ by %g Pa", worst);
+    free(direct);
+    free(iterative);
+
+    /* 2. CG that is not allowed to converge */
+    mps2p_solver *solver;
+    MUST(mps2p_scene_set_option(scene, "pressure_solver", "cg"));
+    MUST(mps2p_scene_set_param(scene, "cg_max_iterations", 2));
+    MUST(mps2p_solver_create(scene, &solver));
+    int status = mps2p_solver_step(solver);
+    CHECK(status == MPS2P_ERR_SOLVE, "expected MPS2P_ERR_SOLVE, got %s", mps2p_status_string(status));
+    CHECK(strstr(mps2p_solver_last_error(solver), "did not converge") != NULL, "message: %s",
+          mps2p_solver_last_error(solver));
+    uint64_t steps;
+    double t;
+    MUST(mps2p_solver_get_step_count(solver, &steps));
+    MUST(mps2p_solver_get_time(solver, &t));
+    CHECK(steps == 0 && t == 0.0, "a failed step advanced the solver (%llu steps, t = %g)",
+          (unsigned long long)steps, t);
+    double p_max;
+    MUST(mps2p_solver_get_stat(solver, "pressure_max", &p_max));
+    CHECK(isfinite(p_max), "pressure is not finite after a failed solve");
+    mps2p_solver_destroy(solver);
+    mps2p_scene_destroy(scene);
+
+    /* 3. a closed box filled with water: no free surface anywhere */
+    int water;
+    MUST(mps2p_scene_create(0.01, &scene));
+    MUST(mps2p_scene_add_fluid(scene, "water", 1000.0, 1e-6, &water));
+    MUST(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.0, 0.1, 0.1));
+    MUST(mps2p_scene_add_tank(scene, 0.0, 0.0, 0.1, 0.1, 0));
+    for (int k = 0; k < 2; k++) {
+        MUST(mps2p_scene_set_option(scene, "pressure_solver", k ? "cg" : "cholmod"));
+        MUST(mps2p_solver_create(scene, &solver));
+        /* the point of this case: not one fluid particle is free surface */
+        size_t count;
+        MUST(mps2p_solver_particle_count(solver, &count));
+        double *nd = malloc(count * sizeof *nd), n0;
+        int *kind = malloc(count * sizeof *kind);
+        MUST(mps2p_solver_get_number_density(solver, nd, count));
+        MUST(mps2p_solver_get_kinds(solver, kind, count));
+        MUST(mps2p_solver_get_stat(solver, "n0", &n0));
+        size_t free_fluid = 0;
+        for (size_t i = 0; i < count; i++)
+            free_fluid += kind[i] == MPS2P_KIND_FLUID && nd[i] < 0.97 * n0;
+        CHECK(free_fluid == 0, "%zu fluid particles on a free surface in a full box", free_fluid);
+        free(nd);
+        free(kind);
+        for (int s = 0; s < 5; s++) {
+            status = mps2p_solver_step(solver);
+            CHECK(status == MPS2P_OK, "closed box, %s, step %d: %s", k ? "cg" : "cholmod", s,
+                  mps2p_solver_last_error(solver));
+        }
+        double surface;
+        MUST(mps2p_solver_get_stat(solver, "surface_particles", &surface));
+        MUST(mps2p_solver_get_stat(solver, "pressure_max", &p_max));
+        printf("closed box (%s): %g surface particles, max pressure %.1f Pa\n",
+               k ? "cg" : "cholmod", surface, p_max);
+        CHECK(isfinite(p_max) && p_max > 0.0, "closed box pressure %g", p_max);
+        mps2p_solver_destroy(solver);
+    }
+    mps2p_scene_destroy(scene);
+    return check_summary("test_solvers");
+}
