@@ -230,16 +230,29 @@ int mps2p_scene_add_tank(mps2p_scene *scene, double x0, double y0, double x1, do
     y1 = y0 + ny * scene->l0;
     double top = open_top ? y1 : y1 + t;
     size_t before = scene->count;
-    status = add_box(scene, SOLID_FROM_BOX, -1, x0 - t, y0 - t, x0, top);
+    status = add_box(scene, MPS2P_KIND_DUMMY, -1, x0 - t, y0 - t, x0, top);
     if (status == MPS2P_OK)
-        status = add_box(scene, SOLID_FROM_BOX, -1, x1, y0 - t, x1 + t, top);
+        status = add_box(scene, MPS2P_KIND_DUMMY, -1, x1, y0 - t, x1 + t, top);
     if (status == MPS2P_OK)
-        status = add_box(scene, SOLID_FROM_BOX, -1, x0, y0 - t, x1, y0);
+        status = add_box(scene, MPS2P_KIND_DUMMY, -1, x0, y0 - t, x1, y0);
     if (status == MPS2P_OK && !open_top)
-        status = add_box(scene, SOLID_FROM_BOX, -1, x0, y1, x1, y1 + t);
-    if (status != MPS2P_OK)
+        status = add_box(scene, MPS2P_KIND_DUMMY, -1, x0, y1, x1, y1 + t);
+    if (status != MPS2P_OK) {
         scene->count = before; /* all or nothing */
-    return status;
+        return status;
+    }
+    /* The tank knows its inside: only the layer facing it carries pressure.
+     * (Its outer faces must not: as free-surface walls they would pin p = 0
+     * within the Laplacian radius of the inner wall layer.) */
+    const double margin = 1.5 * scene->l0;
+    for (size_t i = before; i < scene->count; i++) {
+        double x = scene->position[2 * i], y = scene->position[2 * i + 1];
+        int inner = x > x0 - margin && x < x1 + margin && y > y0 - margin &&
+                    (open_top || y < y1 + margin);
+        if (inner)
+            scene->kind[i] = MPS2P_KIND_WALL;
+    }
+    return MPS2P_OK;
 }
 
 int mps2p_scene_add_particles(mps2p_scene *scene, size_t count, const double *positions,
