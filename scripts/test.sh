@@ -27,7 +27,7 @@ meson install -C build-release --quiet >/dev/null
 libdir=$(dirname "$(find "$prefix" -name mps2p.pc | head -n1)")
 export PKG_CONFIG_PATH="$libdir${PKG_CONFIG_PATH:+:$PKG_CONFIG_PATH}"
 out=$(mktemp -d)
-cc -std=c11 -Wall -Wextra -Werror tests/consumer/consumer.c -o "$out/consumer" \
+"${CC:-gcc}" -std=c11 -Wall -Wextra -Werror tests/consumer/consumer.c -o "$out/consumer" \
     $(pkg-config --cflags --libs mps2p) -lm -Wl,-rpath,"$(pkg-config --variable=libdir mps2p)"
 "$out/consumer"
 
