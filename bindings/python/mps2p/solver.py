@@ -1,0 +1,181 @@
+"""Solver: built from a scene, stepped, queried. Fields come back as numpy
+arrays that are COPIES: each call copies the solver's current state into a
+new array that the caller owns; stepping never changes an array already
+returned, and changing the array never changes the solver."""
+import numpy as np
+
+from . import errors
+from ._core import check, encode, real
+from ._native import ffi, lib
+
+STAT_KEYS = ("max_speed", "kinetic_energy", "potential_energy", "pressure_min",
+             "pressure_max", "ppe_unknowns", "ppe_iterations", "ppe_residual",
+             "surface_particles", "n0", "lambda", "neighbour_builds")
+
+
+class Solver:
+    """Wraps mps2p_solver. Solver(scene) copies the scene: the scene may be
+    changed or closed afterwards. Free it with close(), a `with` block, or
+    garbage collection."""
+
+    def __init__(self, scene=None, _handle=None):
+        if _handle is not None:
+            self._handle = ffi.gc(_handle, lib.mps2p_solver_destroy)
+            return
+        handle = ffi.new("mps2p_solver **")
+        check(lib.mps2p_solver_create(scene.handle, handle))
+        self._handle = ffi.gc(handle[0], lib.mps2p_solver_destroy)
+
+    @property
+    def handle(self):
+        if self._handle is None:
+            raise ValueError("the solver is closed")
+        return self._handle
+
+    def close(self):
+        if self._handle is not None:
+            ffi.release(self._handle)
+            self._handle = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    # -- running ------------------------------------------------------------
+    def step(self):
+        """One time step. Raises DivergedError or SolveError (the solver keeps
+        the state from before the step)."""
+        check(lib.mps2p_solver_step(self.handle))
+
+    def advance_to(self, end_time, progress=None):
+        """Steps until `end_time` exactly. `progress(solver)` is called after
+        each step; a true return value stops the run. Returns True when
+        end_time was reached, False when progress stopped it. An exception
+        raised by progress stops the run and is re-raised here."""
+        if progress is None:
+            return check(lib.mps2p_solver_advance_to(self.handle, real(end_time, "end time"),
+                                                     ffi.NULL, ffi.NULL)) == lib.MPS2P_OK
+        failure = []
+
+        @ffi.callback("int(const mps2p_solver *, void *)")
+        def callback(_solver, _user):
+            try:
+                return 1 if progress(self) else 0
+            except BaseException as e:  # noqa: B902 - re-raised below
+                failure.append(e)
+                return 1
+
+        status = lib.mps2p_solver_advance_to(self.handle, real(end_time, "end time"),
+                                             callback, ffi.NULL)
+        if failure:
+            raise failure[0]
+        return check(status) == lib.MPS2P_OK
+
+    # -- state ----------------------------------------------------------------
+    @property
+    def particle_count(self):
+        count = ffi.new("size_t *")
+        check(lib.mps2p_solver_particle_count(self.handle, count))
+        return count[0]
+
+    @property
+    def time(self):
+        value = ffi.new("double *")
+        check(lib.mps2p_solver_get_time(self.handle, value))
+        return value[0]
+
+    @property
+    def step_count(self):
+        value = ffi.new("uint64_t *")
+        check(lib.mps2p_solver_get_step_count(self.handle, value))
+        return int(value[0])
+
+    @property
+    def last_dt(self):
+        value = ffi.new("double *")
+        check(lib.mps2p_solver_get_last_dt(self.handle, value))
+        return value[0]
+
+    def _field(self, getter, dtype, columns):
+        n = self.particle_count
+        out = np.empty((n, columns) if columns > 1 else (n,), dtype=dtype)
+        ctype = "double[]" if dtype == np.float64 else "int[]"
+        check(getter(self.handle, ffi.from_buffer(ctype, out, require_writable=True), out.size))
+        return out
+
+    def positions(self):
+        """(n, 2) float64, a copy."""
+        return self._field(lib.mps2p_solver_get_positions, np.float64, 2)
+
+    def velocities(self):
+        """(n, 2) float64, a copy."""
+        return self._field(lib.mps2p_solver_get_velocities, np.float64, 2)
+
+    def pressure(self):
+        """(n,) float64 in Pa, a copy."""
+        return self._field(lib.mps2p_solver_get_pressure, np.float64, 1)
+
+    def number_density(self):
+        """(n,) float64, a copy."""
+        return self._field(lib.mps2p_solver_get_number_density, np.float64, 1)
+
+    def kinds(self):
+        """(n,) int32 of KIND_FLUID, KIND_WALL, KIND_DUMMY, a copy."""
+        return self._field(lib.mps2p_solver_get_kinds, np.intc, 1)
+
+    def fluid_ids(self):
+        """(n,) int32, the fluid id of each particle, -1 for walls; a copy."""
+        return self._field(lib.mps2p_solver_get_fluid_ids, np.intc, 1)
+
+    def stat(self, key):
+        value = ffi.new("double *")
+        check(lib.mps2p_solver_get_stat(self.handle, encode(key, "statistic name"), value))
+        return value[0]
+
+    def stats(self):
+        """{name: value} of every statistic."""
+        return {key: self.stat(key) for key in STAT_KEYS}
+
+    # -- probes and checkpoints -------------------------------------------
+    def probe(self, points):
+        """Pressure and velocity at arbitrary points, MPS-weighted from the
+        particles around each: returns (pressure (m,), velocity (m, 2), inside (m,)
+        bool). Points outside the fluid get 0 and inside False."""
+        points = np.ascontiguousarray(points, dtype=np.float64)
+        if points.ndim == 1:
+            points = points.reshape(1, -1)
+        if points.ndim != 2 or points.shape[1] != 2:
+            raise ValueError("points must have shape (m, 2), got %s" % (points.shape,))
+        m = points.shape[0]
+        pressure = np.empty(m)
+        velocity = np.empty((m, 2))
+        inside = np.empty(m, dtype=np.intc)
+        check(lib.mps2p_solver_probe(self.handle, m, ffi.from_buffer("double[]", points),
+                                     ffi.from_buffer("double[]", pressure, require_writable=True),
+                                     ffi.from_buffer("double[]", velocity, require_writable=True),
+                                     ffi.from_buffer("int[]", inside, require_writable=True)))
+        return pressure, velocity, inside.astype(bool)
+
+    def front(self, fluid_id=-1, below=None):
+        """Surge front: the largest x of the fluid's particles (any fluid for
+        fluid_id -1) lower than `below` (m), plus l0/2."""
+        x = ffi.new("double *")
+        check(lib.mps2p_solver_front(self.handle, int(fluid_id),
+                                     real(below if below is not None else float("inf"), "below"), x))
+        return x[0]
+
+    def save_checkpoint(self, path):
+        """Writes everything the next step depends on (atomically)."""
+        check(lib.mps2p_solver_save_checkpoint(self.handle, encode(str(path), "path")))
+
+    @staticmethod
+    def load_checkpoint(path):
+        """A solver restored from a checkpoint; it continues bitwise as the saved one would."""
+        handle = ffi.new("mps2p_solver **")
+        check(lib.mps2p_solver_load_checkpoint(encode(str(path), "path"), handle))
+        return Solver(_handle=handle[0])
+
+
+__all__ = ["Solver", "STAT_KEYS", "errors"]
