@@ -1,0 +1,119 @@
+"""Scene files: the shipped scenes load and run; wrong files are refused
+with the file, the key and the reason."""
+import glob
+import json
+import os
+import textwrap
+
+import numpy as np
+import pytest
+
+import mps2p
+from mps2p import scenefile
+from mps2p.run import run
+
+from conftest import SCENES
+
+GOOD = """
+[run]
+l0 = 0.02
+end_time = 0.02
+[[fluid]]
+name = "water"
+density = 1000.0
+viscosity = 1e-6
+[[fluid_box]]
+fluid = "water"
+box = [0.0, 0.0, 0.16, 0.3]
+[[tank]]
+box = [0.0, 0.0, 0.6, 0.5]
+"""
+
+
+def write(tmp_path, text, name="scene.toml"):
+    path = tmp_path / name
+    path.write_text(textwrap.dedent(text))
+    return str(path)
+
+
+def test_a_good_scene_builds(tmp_path):
+    loaded = scenefile.load(write(tmp_path, GOOD))
+    with loaded.build() as scene:
+        assert scene.particle_count > 8 * 15
+        assert scene.fluids == [("water", 1000.0, 1e-6)]
+
+
+@pytest.mark.parametrize("change, key, reason", [
+    (("[run]", "[run]\nspeed = 3"), "run.speed", "unknown key"),
+    (("[[tank]]", "[[tanks]]"), "tanks", "unknown table"),
+    (("l0 = 0.02", "l0 = \"small\""), "run.l0", "finite number"),
+    (("l0 = 0.02", "l0 = -0.02"), "run.l0", "> 0"),
+    (("l0 = 0.02\n", ""), "run.l0", "missing"),
+    (("box = [0.0, 0.0, 0.16, 0.3]", "box = [0.16, 0.0, 0.0, 0.3]"), "fluid_box[0].box",
+     "x1 > x0"),
+    (("box = [0.0, 0.0, 0.16, 0.3]", "box = [0.0, 0.0, 0.16]"), "fluid_box[0].box",
+     "4 numbers"),
+    (("fluid = \"water\"", "fluid = \"oil\""), "fluid_box[0].fluid", "no fluid named 'oil'"),
+    (("density = 1000.0", "density = -5.0"), "fluid[0]", "density"),
+    (("[[tank]]", "[parameters]\ncfl = 5.0\n[[tank]]"), "parameters.cfl", "cfl"),
+    (("[[tank]]", "[parameters]\nwarp = 1.0\n[[tank]]"), "parameters.warp", "warp"),
+    (("[[tank]]", "[options]\npressure_solver = 3\n[[tank]]"), "options.pressure_solver",
+     "string"),
+    (("[[tank]]", "[[probe]]\nname = \"p\"\ntype = \"temperature\"\n[[tank]]"),
+     "probe[0].type", "must be one of"),
+    (("[[tank]]", "[[probe]]\nname = \"p\"\ntype = \"pressure\"\n[[tank]]"), "probe[0]",
+     "needs ['at']"),
+    (("[[tank]]", "[[probe]]\nname = \"p\"\ntype = \"stat\"\nstat = \"heat\"\n[[tank]]"),
+     "probe[0].stat", "must be one of"),
+    (("[[tank]]", "[[particles]]\nfile = \"missing.npz\"\n[[tank]]"), "particles[0].file",
+     "no such file"),
+])
+def test_wrong_files_name_the_file_key_and_reason(tmp_path, change, key, reason):
+    assert change[0] in GOOD
+    path = write(tmp_path, GOOD.replace(change[0], change[1], 1))
+    with pytest.raises(mps2p.SceneFileError) as caught:
+        scenefile.load(path).build()
+    message = str(caught.value)
+    assert message.startswith(path + ": ") and key in message and reason in message, message
+
+
+def test_not_toml_and_missing_file(tmp_path):
+    with pytest.raises(mps2p.SceneFileError, match="not valid TOML"):
+        scenefile.load(write(tmp_path, "[run\nl0 = 1"))
+    with pytest.raises(mps2p.SceneFileError, match="cannot read"):
+        scenefile.load(str(tmp_path / "nowhere.toml"))
+
+
+def test_particles_from_an_npz_file(tmp_path):
+    l0 = 0.02
+    x, y = np.meshgrid((np.arange(8) + 0.5) * l0, (np.arange(15) + 0.5) * l0)
+    np.savez(tmp_path / "column.npz", positions=np.column_stack([x.ravel(), y.ravel()]),
+             kinds=np.zeros(x.size, dtype=np.int32), fluid_ids=np.zeros(x.size, dtype=np.int32))
+    text = GOOD.replace("[[fluid_box]]\nfluid = \"water\"\nbox = [0.0, 0.0, 0.16, 0.3]\n",
+                        "[[particles]]\nfile = \"column.npz\"\n")
+    from_file = scenefile.load(write(tmp_path, text)).build()
+    from_box = scenefile.load(write(tmp_path, GOOD, "box.toml")).build()
+    assert from_file.particle_count == from_box.particle_count
+    np.savez(tmp_path / "bad.npz", positions=np.zeros((2, 2)), colours=np.zeros(2))
+    with pytest.raises(mps2p.SceneFileError, match="unknown arrays"):
+        scenefile.load(write(tmp_path, text.replace("column.npz", "bad.npz"))).build()
+
+
+SHIPPED = sorted(glob.glob(os.path.join(SCENES, "*.toml")))
+
+
+def test_scenes_are_shipped():
+    names = {os.path.basename(p) for p in SHIPPED}
+    assert {"dam_break.toml", "hydrostatic.toml"} <= names
+
+
+@pytest.mark.parametrize("path", SHIPPED, ids=os.path.basename)
+def test_every_shipped_scene_runs(tmp_path, path):
+    summary = run(path, str(tmp_path), end_time=0.02, pictures=True, log=None)
+    assert summary["status"] == "completed", summary["message"]
+    assert summary["time_reached"] == pytest.approx(0.02, abs=1e-12)
+    for name in ("results.h5", "results.xdmf", "series.csv", "summary.json", "snapshots.png"):
+        assert (tmp_path / name).exists(), name
+    header = (tmp_path / "series.csv").read_text().splitlines()[0].split(",")
+    assert header == ["time", "step"] + summary["probes"]
+    assert json.loads((tmp_path / "summary.json").read_text())["steps"] == summary["steps"]
