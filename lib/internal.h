@@ -52,6 +52,9 @@ int params_set_option(params *p, const char *key, const char *value,
                       char *message, size_t size);
 int params_get_option(const params *p, const char *key, const char **value);
 double params_max_radius(const params *p);
+/* Key of the index-th option (0, 1, ...), NULL past the last: lets the
+ * output files list every option without knowing them. */
+const char *params_option_key(size_t index);
 
 /* ---- scene (scene.c) ---- */
 
@@ -116,6 +119,11 @@ int neighbours_init(neighbour_list *list, size_t count, double cutoff, double sk
 void neighbours_free(neighbour_list *list);
 /* Rebuilds when needed; returns MPS2P_OK or MPS2P_ERR_NOMEM. */
 int neighbours_update(neighbour_list *list, const double *position);
+/* Builds the list from the positions of an earlier build (built_at) and sets
+ * the build count, so that a restored solver reuses the same pairs and makes
+ * the same rebuild decisions as the one it was saved from. built_at must not
+ * be list->built_at itself (it is copied there). */
+int neighbours_restore(neighbour_list *list, const double *built_at, unsigned long builds);
 
 /* ---- linear solvers (linear_solver.c) ---- */
 
@@ -183,6 +191,20 @@ struct mps2p_solver {
     int diverged;
     char error[ERROR_MESSAGE_SIZE];
 };
+
+/* Allocates every per-particle array of a zeroed solver (solver.c); the
+ * checkpoint loader fills them instead of a scene. */
+int solver_allocate(mps2p_solver *s, size_t n, int fluid_count);
+/* Starts the neighbour list (empty) and the pressure solver, once l0, params
+ * and domain are set. */
+int solver_start(mps2p_solver *s);
+
+/* ---- output files ---- */
+
+/* Writes the XDMF sidecar for count snapshots of a results file whose name
+ * (relative to the sidecar) is h5_name; atomic (xdmf.c). */
+int xdmf_write(const char *xdmf_path, const char *h5_name, size_t count, const double *times,
+               const size_t *particles, char *handle_error);
 
 /* ---- MPS operators at particle i (operators.c) ---- */
 /* (d / n0) sum_j (f_j - reference) r_ij w / |r_ij|^2 over non-dummy neighbours. */

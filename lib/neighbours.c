@@ -161,3 +161,11 @@ int neighbours_update(neighbour_list *list, const double *position)
     list->builds++;
     return MPS2P_OK;
 }
+
+int neighbours_restore(neighbour_list *list, const double *built_at, unsigned long builds)
+{
+    list->builds = 0; /* forces the build */
+    int status = neighbours_update(list, built_at);
+    list->builds = builds;
+    return status;
+}

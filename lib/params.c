@@ -140,6 +140,12 @@ int params_get_option(const params *p, const char *key, const char **value)
     return MPS2P_OK;
 }
 
+const char *params_option_key(size_t index)
+{
+    static const char *const keys[] = {"pressure_solver"};
+    return index < sizeof keys / sizeof keys[0] ? keys[index] : NULL;
+}
+
 double params_max_radius(const params *p)
 {
     return fmax(p->re_density, p->re_laplacian);

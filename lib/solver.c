@@ -175,14 +175,11 @@ static int check_spacing(const mps2p_solver *s)
     return MPS2P_OK;
 }
 
-static int build(mps2p_solver *s, const mps2p_scene *scene)
+int solver_allocate(mps2p_solver *s, size_t n, int fluid_count)
 {
-    const size_t n = scene->count;
-    s->l0 = scene->l0;
-    s->params = scene->params;
     s->count = n;
-    s->fluid_count = scene->fluid_count;
-    s->fluids = malloc((size_t)scene->fluid_count * sizeof *s->fluids);
+    s->fluid_count = fluid_count;
+    s->fluids = malloc((size_t)fluid_count * sizeof *s->fluids);
     s->kind = malloc(n * sizeof *s->kind);
     s->fluid_id = malloc(n * sizeof *s->fluid_id);
     s->density = malloc(n * sizeof *s->density);
@@ -198,6 +195,29 @@ static int build(mps2p_solver *s, const mps2p_scene *scene)
         !s->unknown_of || alloc_state(&s->state, n) != MPS2P_OK ||
         alloc_state(&s->saved, n) != MPS2P_OK)
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory creating a solver for %zu particles", n);
+    return MPS2P_OK;
+}
+
+int solver_start(mps2p_solver *s)
+{
+    double cutoff = (params_max_radius(&s->params) + s->params.neighbour_skin) * s->l0;
+    if (neighbours_init(&s->neighbours, s->count, cutoff, s->params.neighbour_skin * s->l0,
+                        s->domain) != MPS2P_OK)
+        return fail(NULL, MPS2P_ERR_NOMEM, "out of memory for the neighbour list");
+    int status = linear_solver_create(s->params.pressure_solver, &s->linear);
+    if (status != MPS2P_OK)
+        return fail(NULL, status, "out of memory starting the pressure solver");
+    return MPS2P_OK;
+}
+
+static int build(mps2p_solver *s, const mps2p_scene *scene)
+{
+    const size_t n = scene->count;
+    s->l0 = scene->l0;
+    s->params = scene->params;
+    int status = solver_allocate(s, n, scene->fluid_count);
+    if (status != MPS2P_OK)
+        return status;
     memcpy(s->fluids, scene->fluids, (size_t)scene->fluid_count * sizeof *s->fluids);
     memcpy(s->state.position, scene->position, 2 * n * sizeof *s->state.position);
     memcpy(s->state.velocity, scene->velocity, 2 * n * sizeof *s->state.velocity);
@@ -224,14 +244,11 @@ static int build(mps2p_solver *s, const mps2p_scene *scene)
         default_domain(scene, s->domain);
     derive_bounds(s);
 
-    double cutoff = (params_max_radius(&s->params) + s->params.neighbour_skin) * s->l0;
-    if (neighbours_init(&s->neighbours, n, cutoff, s->params.neighbour_skin * s->l0,
-                        s->domain) != MPS2P_OK ||
-        neighbours_update(&s->neighbours, s->state.position) != MPS2P_OK)
-        return fail(NULL, MPS2P_ERR_NOMEM, "out of memory for the neighbour list");
-    int status = linear_solver_create(s->params.pressure_solver, &s->linear);
+    status = solver_start(s);
     if (status != MPS2P_OK)
-        return fail(NULL, status, "out of memory starting the pressure solver");
+        return status;
+    if (neighbours_update(&s->neighbours, s->state.position) != MPS2P_OK)
+        return fail(NULL, MPS2P_ERR_NOMEM, "out of memory for the neighbour list");
     number_density_compute(s);
     return MPS2P_OK;
 }
