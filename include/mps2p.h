@@ -7,7 +7,8 @@
  *   2. a scene: particle spacing, fluids, particles (boxes, tanks, arrays) and
  *      parameters set by name;
  *   3. a solver built from the scene, stepped or advanced to a time;
- *   4. results: fields copied into caller buffers, and statistics by name.
+ *   4. results: fields copied into caller buffers, and statistics by name;
+ *   5. files: HDF5 results files.
  *
  * Conventions, everywhere:
  *   - every function that can fail returns an int status: MPS2P_OK (0) on
@@ -241,6 +242,48 @@ MPS2P_API int mps2p_solver_get_last_dt(const mps2p_solver *solver, double *dt);
  *   neighbour_builds   times the neighbour list was built so far */
 MPS2P_API int mps2p_solver_get_stat(const mps2p_solver *solver, const char *key,
                                     double *value);
+
+/* ---------------------------------------------------------------------------
+ * 5. Files: HDF5 results (with an XDMF sidecar for ParaView)
+ *
+ * The file layouts are in docs/results-files.md. Every file error is
+ * MPS2P_ERR_IO with a message naming the file and what failed; HDF5's own
+ * error printing is switched off for the duration of each call (and the
+ * calling thread's setting restored after it).
+ * ------------------------------------------------------------------------- */
+
+typedef struct mps2p_results mps2p_results;
+
+/* Creates (or truncates) the HDF5 results file at path and writes the run's
+ * metadata: library version, l0, n0, lambda, domain, every numeric parameter
+ * and option by name, the fluids (name, density, kinematic viscosity) and
+ * scene_text, the text of the scene file the run came from (may be NULL).
+ * Also (re)writes the XDMF sidecar: path with ".h5" replaced by ".xdmf"
+ * (".xdmf" appended when path does not end in ".h5"). The file stays open
+ * until mps2p_results_close. */
+MPS2P_API int mps2p_results_create(const char *path, const mps2p_solver *solver,
+                                   const char *scene_text, mps2p_results **results);
+
+/* Appends the solver's current state as the group /snapshots/NNNNNN (000000,
+ * 000001, ...): attributes time (s) and step, datasets position and velocity
+ * (n x 2), pressure (Pa), number_density, kind and fluid_id (int). Flushes the
+ * file, then rewrites the XDMF sidecar atomically. The solver must have the
+ * particle count of the one the file was created with (MPS2P_ERR_INVALID). */
+MPS2P_API int mps2p_results_write_snapshot(mps2p_results *results,
+                                           const mps2p_solver *solver);
+
+/* Appends the row (time, value) to the n x 2 dataset /series/<name>, created
+ * on first use. name: 1 to 64 characters among letters, digits, '_', '-' and
+ * '.', not starting with '.' (MPS2P_ERR_INVALID otherwise); time and value
+ * must be finite. Rows reach the disk at the next snapshot or at close. */
+MPS2P_API int mps2p_results_append_series(mps2p_results *results, const char *name,
+                                          double time, double value);
+
+/* Flushes and closes the file and frees the handle, whatever the outcome;
+ * returns the status of closing (MPS2P_ERR_IO if HDF5 could not). NULL is
+ * accepted (MPS2P_OK). */
+MPS2P_API int mps2p_results_close(mps2p_results *results);
+MPS2P_API const char *mps2p_results_last_error(const mps2p_results *results);
 
 #ifdef __cplusplus
 }
