@@ -8,7 +8,7 @@
  *      parameters set by name;
  *   3. a solver built from the scene, stepped or advanced to a time;
  *   4. results: fields copied into caller buffers, and statistics by name;
- *   5. files: HDF5 results files.
+ *   5. files: HDF5 results files, checkpoints.
  *
  * Conventions, everywhere:
  *   - every function that can fail returns an int status: MPS2P_OK (0) on
@@ -244,7 +244,8 @@ MPS2P_API int mps2p_solver_get_stat(const mps2p_solver *solver, const char *key,
                                     double *value);
 
 /* ---------------------------------------------------------------------------
- * 5. Files: HDF5 results (with an XDMF sidecar for ParaView)
+ * 5. Files: HDF5 results (with an XDMF sidecar for ParaView) and
+ *    checkpoints
  *
  * The file layouts are in docs/results-files.md. Every file error is
  * MPS2P_ERR_IO with a message naming the file and what failed; HDF5's own
@@ -284,6 +285,19 @@ MPS2P_API int mps2p_results_append_series(mps2p_results *results, const char *na
  * accepted (MPS2P_OK). */
 MPS2P_API int mps2p_results_close(mps2p_results *results);
 MPS2P_API const char *mps2p_results_last_error(const mps2p_results *results);
+
+/* Writes everything the next step depends on (state, particle properties,
+ * parameters, derived constants, time, step count, last dt, the diverged
+ * flag, the neighbour list's reference positions) to path, atomically: it is
+ * written to "<path>.tmp", flushed to disk and renamed over path. */
+MPS2P_API int mps2p_solver_save_checkpoint(const mps2p_solver *solver, const char *path);
+
+/* Rebuilds a solver from a checkpoint. Stepping it gives bitwise the results
+ * the saved solver would have given (same library build). Refuses, with
+ * MPS2P_ERR_IO: a missing or unreadable file, a file that is not a libmps2p
+ * checkpoint, a newer format version, datasets of the wrong shape or type,
+ * inconsistent contents (kinds, fluid ids, parameters out of range). */
+MPS2P_API int mps2p_solver_load_checkpoint(const char *path, mps2p_solver **solver);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,222 @@
+/* Checkpoint and restart: a restored solver continues bitwise as the saved
+ * one, for both pressure solvers; damaged or foreign files are refused. */
+#define _POSIX_C_SOURCE 200809L
+#include <hdf5.h>
+#include <stdint.h>
+#include <string.h>
+#include <unistd.h>
+#include "scenes.h"
+
+#define BEFORE 40 /* steps before the checkpoint */
+#define AFTER 40  /* steps after it */
+
+typedef struct state {
+    size_t n;
+    double *position, *velocity, *pressure;
+    double time, dt, builds;
+    uint64_t steps;
+} state;
+
+static state capture(const mps2p_solver *solver)
+{
+    state s;
+    MUST(mps2p_solver_particle_count(solver, &s.n));
+    s.position = malloc(2 * s.n * sizeof(double));
+    s.velocity = malloc(2 * s.n * sizeof(double));
+    s.pressure = malloc(s.n * sizeof(double));
+    MUST(mps2p_solver_get_positions(solver, s.position, 2 * s.n));
+    MUST(mps2p_solver_get_velocities(solver, s.velocity, 2 * s.n));
+    MUST(mps2p_solver_get_pressure(solver, s.pressure, s.n));
+    MUST(mps2p_solver_get_time(solver, &s.time));
+    MUST(mps2p_solver_get_last_dt(solver, &s.dt));
+    MUST(mps2p_solver_get_step_count(solver, &s.steps));
+    MUST(mps2p_solver_get_stat(solver, "neighbour_builds", &s.builds));
+    return s;
+}
+
+static void release(state *s)
+{
+    free(s->position);
+    free(s->velocity);
+    free(s->pressure);
+}
+
+static void steps(mps2p_solver *solver, int count)
+{
+    for (int k = 0; k < count; k++)
+        MUST(mps2p_solver_step(solver));
+}
+
+static void restart_is_bitwise(const char *method, const char *path)
+{
+    mps2p_scene *scene = dam_break_scene(0.02);
+    MUST(mps2p_scene_set_option(scene, "pressure_solver", method));
+    mps2p_solver *original, *restored;
+    MUST(mps2p_solver_create(scene, &original));
+    mps2p_scene_destroy(scene);
+    steps(original, BEFORE);
+    MUST(mps2p_solver_save_checkpoint(original, path));
+    state saved = capture(original);
+    steps(original, AFTER);
+    state expected = capture(original);
+
+    MUST(mps2p_solver_load_checkpoint(path, &restored));
+    state loaded = capture(restored);
+    CHECK(loaded.n == saved.n && loaded.steps == saved.steps && loaded.time == saved.time &&
+          loaded.dt == saved.dt && loaded.builds == saved.builds,
+          "%s: loaded solver differs in counts, time or last dt", method);
+    CHECK(!memcmp(loaded.position, saved.position, 2 * saved.n * sizeof(double)),
+          "%s: loaded positions differ", method);
+    steps(restored, AFTER);
+    state got = capture(restored);
+    CHECK(got.n == expected.n, "%s: particle counts differ", method);
+    CHECK(got.steps == expected.steps, "%s: step counts %llu vs %llu", method,
+          (unsigned long long)got.steps, (unsigned long long)expected.steps);
+    CHECK(!memcmp(&got.time, &expected.time, sizeof got.time), "%s: time %.17g vs %.17g",
+          method, got.time, expected.time);
+    CHECK(!memcmp(got.position, expected.position, 2 * got.n * sizeof(double)),
+          "%s: positions are not bitwise identical", method);
+    CHECK(!memcmp(got.velocity, expected.velocity, 2 * got.n * sizeof(double)),
+          "%s: velocities are not bitwise identical", method);
+    CHECK(!memcmp(got.pressure, expected.pressure, got.n * sizeof(double)),
+          "%s: pressures are not bitwise identical", method);
+    CHECK(got.builds == expected.builds && got.builds > saved.builds,
+          "%s: neighbour builds %g vs %g (at the checkpoint %g)", method, got.builds,
+          expected.builds, saved.builds);
+    printf("%s: %llu steps, t = %.6f s, %g neighbour builds: restart is bitwise\n", method,
+           (unsigned long long)got.steps, got.time, got.builds);
+    release(&saved);
+    release(&expected);
+    release(&loaded);
+    release(&got);
+    mps2p_solver_destroy(original);
+    mps2p_solver_destroy(restored);
+}
+
+static void expect_refused(const char *path, const char *fragment)
+{
+    mps2p_solver *solver = (mps2p_solver *)&solver; /* must be reset to NULL */
+    int status = mps2p_solver_load_checkpoint(path, &solver);
+    const char *message = mps2p_last_error();
+    printf("refused: %s\n", message);
+    CHECK(status == MPS2P_ERR_IO, "%s: got %s", path, mps2p_status_string(status));
+    CHECK(solver == NULL, "%s: solver not NULL after a refusal", path);
+    CHECK(strstr(message, path) != NULL, "message \"%s\" does not name %s", message, path);
+    CHECK(strstr(message, fragment) != NULL, "message \"%s\" lacks \"%s\"", message, fragment);
+    mps2p_solver_destroy(solver);
+}
+
+static void copy_prefix(const char *from, const char *to, double fraction)
+{
+    FILE *in = fopen(from, "rb"), *out = fopen(to, "wb");
+    CHECK(in && out, "cannot copy %s", from);
+    if (!in || !out)
+        exit(1);
+    fseek(in, 0, SEEK_END);
+    long size = ftell(in);
+    fseek(in, 0, SEEK_SET);
+    long keep = (long)(size * fraction);
+    char *bytes = malloc((size_t)size);
+    CHECK(fread(bytes, 1, (size_t)size, in) == (size_t)size, "short read of %s", from);
+    fwrite(bytes, 1, (size_t)keep, out);
+    free(bytes);
+    fclose(in);
+    fclose(out);
+}
+
+/* Edits a saved checkpoint with the HDF5 API, as damage would. */
+static void set_format_version(const char *path, int version)
+{
+    hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    hid_t attribute = H5Aopen(file, "format_version", H5P_DEFAULT);
+    CHECK(H5Awrite(attribute, H5T_NATIVE_INT, &version) >= 0, "cannot edit %s", path);
+    H5Aclose(attribute);
+    H5Fclose(file);
+}
+
+static void shorten_dataset(const char *path, const char *name)
+{
+    hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    CHECK(H5Ldelete(file, name, H5P_DEFAULT) >= 0, "cannot delete %s", name);
+    hsize_t dims[1] = {3};
+    double values[3] = {0.0, 0.0, 0.0};
+    hid_t space = H5Screate_simple(1, dims, NULL);
+    hid_t dataset = H5Dcreate2(file, name, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT,
+                               H5P_DEFAULT);
+    H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values);
+    H5Dclose(dataset);
+    H5Sclose(space);
+    H5Fclose(file);
+}
+
+int main(void)
+{
+    char dir[] = "/tmp/mps2p-checkpoint-XXXXXX";
+    if (!mkdtemp(dir)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    char path[256], other[256], text[256], missing[256], temporary[300];
+    snprintf(path, sizeof path, "%s/run.chk", dir);
+    snprintf(temporary, sizeof temporary, "%s.tmp", path);
+
+    restart_is_bitwise("cholmod", path);
+    CHECK(access(temporary, F_OK) != 0, "the temporary %s was left behind", temporary);
+    restart_is_bitwise("cg", path);
+
+    /* refusals */
+    snprintf(missing, sizeof missing, "%s/no-such-file.chk", dir);
+    expect_refused(missing, "cannot open");
+    snprintf(text, sizeof text, "%s/text.chk", dir);
+    FILE *f = fopen(text, "w");
+    fputs("not a checkpoint\n", f);
+    fclose(f);
+    expect_refused(text, "not an HDF5 file");
+
+    mps2p_scene *scene = dam_break_scene(0.02);
+    mps2p_solver *solver;
+    MUST(mps2p_solver_create(scene, &solver));
+    mps2p_scene_destroy(scene);
+    snprintf(other, sizeof other, "%s/results.h5", dir);
+    mps2p_results *results;
+    MUST(mps2p_results_create(other, solver, NULL, &results));
+    MUST(mps2p_results_close(results));
+    expect_refused(other, "not a libmps2p checkpoint");
+
+    snprintf(other, sizeof other, "%s/newer.chk", dir);
+    MUST(mps2p_solver_save_checkpoint(solver, other));
+    set_format_version(other, 2);
+    expect_refused(other, "format version 2 is newer");
+
+    snprintf(other, sizeof other, "%s/shape.chk", dir);
+    MUST(mps2p_solver_save_checkpoint(solver, other));
+    shorten_dataset(other, "/particles/pressure");
+    expect_refused(other, "dataset pressure has shape (3)");
+
+    snprintf(other, sizeof other, "%s/half.chk", dir);
+    copy_prefix(path, other, 0.5);
+    expect_refused(other, "cannot open");
+
+    /* arguments */
+    mps2p_solver *none;
+    CHECK(mps2p_solver_save_checkpoint(NULL, path) == MPS2P_ERR_NULL, "NULL solver");
+    CHECK(mps2p_solver_save_checkpoint(solver, NULL) == MPS2P_ERR_NULL, "NULL path");
+    CHECK(mps2p_solver_save_checkpoint(solver, "") == MPS2P_ERR_INVALID, "empty path");
+    CHECK(mps2p_solver_load_checkpoint(NULL, &none) == MPS2P_ERR_NULL, "NULL path");
+    CHECK(mps2p_solver_load_checkpoint(path, NULL) == MPS2P_ERR_NULL, "NULL output");
+    snprintf(other, sizeof other, "%s/no-such-dir/run.chk", dir);
+    int status = mps2p_solver_save_checkpoint(solver, other);
+    CHECK(status == MPS2P_ERR_IO && strstr(mps2p_last_error(), other),
+          "saving into a missing directory: %s, %s", mps2p_status_string(status),
+          mps2p_last_error());
+    mps2p_solver_destroy(solver);
+
+    const char *names[] = {"run.chk", "text.chk", "results.h5", "results.xdmf", "newer.chk",
+                           "shape.chk", "half.chk"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+        snprintf(other, sizeof other, "%s/%s", dir, names[i]);
+        remove(other);
+    }
+    CHECK(rmdir(dir) == 0, "%s is not empty: something left a file behind", dir);
+    return check_summary("test_checkpoint");
+}
