@@ -8,7 +8,7 @@
  *      parameters set by name;
  *   3. a solver built from the scene, stepped or advanced to a time;
  *   4. results: fields copied into caller buffers, and statistics by name;
- *   5. files: HDF5 results files, checkpoints.
+ *   5. files and probes: HDF5 results files, checkpoints, point probes.
  *
  * Conventions, everywhere:
  *   - every function that can fail returns an int status: MPS2P_OK (0) on
@@ -244,8 +244,8 @@ MPS2P_API int mps2p_solver_get_stat(const mps2p_solver *solver, const char *key,
                                     double *value);
 
 /* ---------------------------------------------------------------------------
- * 5. Files: HDF5 results (with an XDMF sidecar for ParaView) and
- *    checkpoints
+ * 5. Files and probes: HDF5 results (with an XDMF sidecar for ParaView),
+ *    checkpoints, point probes and the surge front
  *
  * The file layouts are in docs/results-files.md. Every file error is
  * MPS2P_ERR_IO with a message naming the file and what failed; HDF5's own
@@ -298,6 +298,29 @@ MPS2P_API int mps2p_solver_save_checkpoint(const mps2p_solver *solver, const cha
  * checkpoint, a newer format version, datasets of the wrong shape or type,
  * inconsistent contents (kinds, fluid ids, parameters out of range). */
 MPS2P_API int mps2p_solver_load_checkpoint(const char *path, mps2p_solver **solver);
+
+/* Samples the particles at count points (points: x0, y0, x1, y1, ...), with
+ * the MPS weight w(r) = re / r - 1 (r < re, re the density radius
+ * re_density l0):
+ *   pressure[k]   sum of w p over fluid and wall particles / sum of w (Pa);
+ *   velocity      sum of w u over fluid particles / sum of w (m/s; 2*count;
+ *                 may be NULL);
+ *   inside[k]     1 when the summed weight of the fluid particles around the
+ *                 point is at least beta n0 / 2 (about half a full
+ *                 neighbourhood: within roughly half a spacing of the free
+ *                 surface or deeper), else 0 (may be NULL).
+ * Points outside the fluid get pressure 0, velocity 0 and inside 0. A point
+ * on a particle is dominated by that particle's values. Cost: one pass over the
+ * particles plus the neighbours of each point. */
+MPS2P_API int mps2p_solver_probe(const mps2p_solver *solver, size_t count,
+                                 const double *points, double *pressure,
+                                 double *velocity, int *inside);
+
+/* Surge front: the largest x among fluid particles of fluid fluid_id (-1 =
+ * any fluid) with y < below_y (INFINITY = no limit), plus l0 / 2 (m).
+ * MPS2P_ERR_INVALID if no particle qualifies. */
+MPS2P_API int mps2p_solver_front(const mps2p_solver *solver, int fluid_id, double below_y,
+                                 double *front_x);
 
 #ifdef __cplusplus
 }
