@@ -250,7 +250,8 @@ MPS2P_API int mps2p_solver_get_stat(const mps2p_solver *solver, const char *key,
  * The file layouts are in docs/results-files.md. Every file error is
  * MPS2P_ERR_IO with a message naming the file and what failed; HDF5's own
  * error printing is switched off for the duration of each call (and the
- * calling thread's setting restored after it).
+ * calling thread's setting restored after it). Different handles and files
+ * may be used from different threads at once, as everywhere in the library.
  * ------------------------------------------------------------------------- */
 
 typedef struct mps2p_results mps2p_results;
