@@ -166,7 +166,19 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
 
 /* Choices, by name:
  *   pressure_solver   "cholmod" (default, sparse direct) or "cg"
- *                     (Jacobi-preconditioned conjugate gradients) */
+ *                     (Jacobi-preconditioned conjugate gradients)
+ *   pressure_gradient "minimum" (default): Koshizuka and Oka's gradient with
+ *                     p^_i = min of the neighbours' pressures as reference
+ *                     (METHOD.md, the paper's form; robust in violent flow);
+ *                     "corrected": p_i as reference and the corrective
+ *                     matrix, exact for linear fields (Khayyer and Gotoh)
+ *   ppe_source        "density" (default): gamma (n* - n0), gamma =
+ *                     ppe_relaxation; "mixed": (n* - n^k) + gamma (n^k - n0);
+ *                     "ecs": (n* - n^k) + |n^k - n0|/n0 (n^k - n0), an
+ *                     error-compensating form (all over n0, times rho/dt^2)
+ * Water at rest stays still (docs/validation.md) with pressure_gradient
+ * "corrected", ppe_source "ecs" and collision_distance 0.995; the defaults
+ * let a still square lattice shear and rearrange. */
 MPS2P_API int mps2p_scene_set_option(mps2p_scene *scene, const char *key,
                                      const char *value);
 MPS2P_API int mps2p_scene_get_option(const mps2p_scene *scene, const char *key,
@@ -204,8 +216,10 @@ MPS2P_API int mps2p_solver_step(mps2p_solver *solver);
 /* Called after each step; return non-zero to stop the run. */
 typedef int (*mps2p_progress_fn)(const mps2p_solver *solver, void *user_data);
 
-/* Steps until the time reaches end_time exactly (the last steps are shortened
- * to land on it, never below half a step). Returns MPS2P_OK, MPS2P_STOPPED
+/* Steps until the time reaches end_time exactly: each step is the remaining
+ * time divided evenly into steps no longer than the chosen dt, so the run
+ * lands on end_time without one short step (a short step biases the pressure
+ * read there, which scales with 1/dt^2). Returns MPS2P_OK, MPS2P_STOPPED
  * when the callback asked to stop, or the error of the failing step.
  * progress may be NULL. */
 MPS2P_API int mps2p_solver_advance_to(mps2p_solver *solver, double end_time,

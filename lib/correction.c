@@ -1,7 +1,30 @@
 /* Correction: u' = -(dt / rho) <grad p>, u = u* + u', r = r* + dt u', with
- * Koshizuka and Oka's gradient: p^_i = min(p_i, min_j p_j) as reference, which
- * keeps the pair forces repulsive. */
+ * one of two pressure gradients (option pressure_gradient):
+ *   minimum    Koshizuka and Oka: p^_i = min(p_i, min_j p_j) as reference, so
+ *              every pair pushes; the paper's form. In still water p_i - p^_i
+ *              is about 2 rho g l0, a repulsive background under which a square
+ *              lattice is unstable to shearing column against column.
+ *   corrected  p_i as reference, times the inverse of the corrective matrix
+ *              (Khayyer and Gotoh 2011): exact for a linear field on any
+ *              arrangement, so no background; particles with a one-sided
+ *              neighbourhood fall back to the uncorrected difference form. */
 #include "internal.h"
+
+static void pressure_gradient_at(const mps2p_solver *s, size_t i, const double *pressure,
+                                 double gradient[2])
+{
+    if (s->params.pressure_gradient == GRADIENT_MINIMUM) {
+        gradient_at(s, i, pressure, minimum_around(s, i, pressure), gradient);
+        return;
+    }
+    gradient_at(s, i, pressure, pressure[i], gradient);
+    double inverse[3];
+    if (corrective_matrix_at(s, i, inverse)) {
+        double gx = gradient[0], gy = gradient[1];
+        gradient[0] = inverse[0] * gx + inverse[1] * gy;
+        gradient[1] = inverse[1] * gx + inverse[2] * gy;
+    }
+}
 
 void pressure_correct(mps2p_solver *s, double dt)
 {
@@ -14,7 +37,7 @@ void pressure_correct(mps2p_solver *s, double dt)
         if (s->kind[i] != MPS2P_KIND_FLUID)
             continue;
         double gradient[2];
-        gradient_at(s, i, pressure, minimum_around(s, i, pressure), gradient);
+        pressure_gradient_at(s, i, pressure, gradient);
         du[0] = -dt / s->density[i] * gradient[0];
         du[1] = -dt / s->density[i] * gradient[1];
     }

@@ -21,6 +21,8 @@ int fail(char *handle_buffer, int status, const char *format, ...)
 /* ---- parameters (params.c) ---- */
 
 enum pressure_solver_kind { PRESSURE_SOLVER_CHOLMOD = 0, PRESSURE_SOLVER_CG = 1 };
+enum pressure_gradient_kind { GRADIENT_MINIMUM = 0, GRADIENT_CORRECTED = 1 };
+enum ppe_source_kind { PPE_SOURCE_DENSITY = 0, PPE_SOURCE_MIXED = 1, PPE_SOURCE_ECS = 2 };
 
 typedef struct params {
     double re_density;
@@ -42,6 +44,8 @@ typedef struct params {
     double displacement_limit;
     double neighbour_skin;
     int pressure_solver;
+    int pressure_gradient;
+    int ppe_source;
 } params;
 
 void params_set_defaults(params *p);
@@ -168,6 +172,7 @@ struct mps2p_solver {
     particle_state state;
     particle_state saved;   /* state before the current step, for rollback */
     double *number_density; /* n* of the last step */
+    double *number_density_start; /* n at the start of the last step */
     double *scratch;        /* 2n, stage workspace */
     unsigned char *on_surface;
     neighbour_list neighbours;
@@ -212,6 +217,11 @@ void gradient_at(const mps2p_solver *s, size_t i, const double *field, double re
                  double out[2]);
 /* min(f_i, min_j f_j) over non-dummy neighbours within the density radius. */
 double minimum_around(const mps2p_solver *s, size_t i, const double *field);
+/* Inverse of (d/n0) sum_j w r_ij r_ij^T / |r_ij|^2 over fluid and wall
+ * neighbours, as (xx, xy, yy); returns 0 when its determinant is below
+ * CORRECTIVE_MIN_DETERMINANT (one-sided neighbourhoods), 1 otherwise. */
+#define CORRECTIVE_MIN_DETERMINANT 0.1
+int corrective_matrix_at(const mps2p_solver *s, size_t i, double inverse[3]);
 /* (2d / (lambda n0)) sum_j (f_j - f_i) w, per component of an interleaved field. */
 void laplacian_at(const mps2p_solver *s, size_t i, const double *field, size_t components,
                   double *out);
@@ -220,7 +230,7 @@ void laplacian_at(const mps2p_solver *s, size_t i, const double *field, size_t c
 double timestep_choose(const mps2p_solver *s);                   /* timestep.c */
 void explicit_forces(mps2p_solver *s, double dt);                 /* explicit_forces.c */
 void collision_apply(mps2p_solver *s, double dt);                 /* collision.c */
-void number_density_compute(mps2p_solver *s);                     /* number_density.c */
+void number_density_compute(mps2p_solver *s, double *out);                     /* number_density.c */
 void free_surface_detect(mps2p_solver *s);                        /* free_surface.c */
 int pressure_solve(mps2p_solver *s, double dt);                   /* pressure.c */
 void pressure_correct(mps2p_solver *s, double dt);                /* correction.c */

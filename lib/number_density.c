@@ -3,7 +3,7 @@
 
 #include <math.h>
 
-void number_density_compute(mps2p_solver *s)
+void number_density_compute(mps2p_solver *s, double *out)
 {
     const double re = s->params.re_density * s->l0;
     const neighbour_list *nl = &s->neighbours;
@@ -16,6 +16,6 @@ void number_density_compute(mps2p_solver *s)
             double dy = position[2 * j + 1] - position[2 * i + 1];
             n += kernel_weight(sqrt(dx * dx + dy * dy), re);
         }
-        s->number_density[i] = n;
+        out[i] = n;
     }
 }

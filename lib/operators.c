@@ -27,6 +27,42 @@ void gradient_at(const mps2p_solver *s, size_t i, const double *field, double re
     out[1] = 2.0 / s->n0_density * gy;
 }
 
+int corrective_matrix_at(const mps2p_solver *s, size_t i, double inverse[3])
+{
+    const double re = s->params.re_density * s->l0, re2 = re * re;
+    const neighbour_list *nl = &s->neighbours;
+    const double *position = s->state.position;
+    double xx = 0.0, xy = 0.0, yy = 0.0;
+    for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
+        size_t j = nl->index[k];
+        if (s->kind[j] == MPS2P_KIND_DUMMY)
+            continue;
+        double dx = position[2 * j] - position[2 * i];
+        double dy = position[2 * j + 1] - position[2 * i + 1];
+        double r2 = dx * dx + dy * dy;
+        if (r2 >= re2 || r2 <= 0.0)
+            continue;
+        double f = kernel_weight(sqrt(r2), re) / r2;
+        xx += f * dx * dx;
+        xy += f * dx * dy;
+        yy += f * dy * dy;
+    }
+    const double scale = 2.0 / s->n0_density;
+    xx *= scale;
+    xy *= scale;
+    yy *= scale;
+    /* The identity (det 1) on a full lattice; a particle with neighbours on
+     * one side only has a near-singular one: leave it uncorrected rather than
+     * amplify noise. */
+    double det = xx * yy - xy * xy;
+    if (!(det >= CORRECTIVE_MIN_DETERMINANT))
+        return 0;
+    inverse[0] = yy / det;
+    inverse[1] = -xy / det;
+    inverse[2] = xx / det;
+    return 1;
+}
+
 double minimum_around(const mps2p_solver *s, size_t i, const double *field)
 {
     const double re = s->params.re_density * s->l0, re2 = re * re;

@@ -73,6 +73,8 @@ void params_set_defaults(params *p)
     for (size_t i = 0; i < TABLE_SIZE; i++)
         *slot(p, &table[i]) = table[i].default_value;
     p->pressure_solver = PRESSURE_SOLVER_CHOLMOD;
+    p->pressure_gradient = GRADIENT_MINIMUM;
+    p->ppe_source = PPE_SOURCE_DENSITY;
 }
 
 int params_set(params *p, const char *key, double value, char *message, size_t size)
@@ -112,38 +114,65 @@ int params_get(const params *p, const char *key, double *value)
     return MPS2P_OK;
 }
 
-static const char *solver_names[] = {"cholmod", "cg"};
+/* The named choices: each maps a few names onto an int field of params
+ * (the index of the name is the stored value, the first is the default). */
+typedef struct option_entry {
+    const char *key;
+    size_t offset;
+    const char *names[4]; /* NULL-terminated */
+} option_entry;
+
+static const option_entry options[] = {
+    {"pressure_solver", offsetof(params, pressure_solver), {"cholmod", "cg", NULL}},
+    {"pressure_gradient", offsetof(params, pressure_gradient), {"minimum", "corrected", NULL}},
+    {"ppe_source", offsetof(params, ppe_source), {"density", "mixed", "ecs", NULL}},
+};
+
+#define OPTION_COUNT (sizeof options / sizeof options[0])
+
+static const option_entry *find_option(const char *key)
+{
+    for (size_t i = 0; i < OPTION_COUNT; i++)
+        if (strcmp(options[i].key, key) == 0)
+            return &options[i];
+    return NULL;
+}
 
 int params_set_option(params *p, const char *key, const char *value,
                       char *message, size_t size)
 {
-    if (strcmp(key, "pressure_solver") != 0) {
+    const option_entry *e = find_option(key);
+    if (!e) {
         snprintf(message, size, "unknown option \"%s\"", key);
         return MPS2P_ERR_UNKNOWN_KEY;
     }
-    for (int i = 0; i < 2; i++) {
-        if (strcmp(value, solver_names[i]) == 0) {
-            p->pressure_solver = i;
+    for (int i = 0; e->names[i]; i++) {
+        if (strcmp(value, e->names[i]) == 0) {
+            *(int *)((char *)p + e->offset) = i;
             return MPS2P_OK;
         }
     }
-    snprintf(message, size, "option pressure_solver must be \"cholmod\" or \"cg\", got \"%s\"",
-             value);
+    char choices[128] = "";
+    for (int i = 0; e->names[i]; i++) {
+        size_t used = strlen(choices);
+        snprintf(choices + used, sizeof choices - used, "%s\"%s\"", i ? ", " : "", e->names[i]);
+    }
+    snprintf(message, size, "option %s must be one of %s, got \"%s\"", key, choices, value);
     return MPS2P_ERR_INVALID;
 }
 
 int params_get_option(const params *p, const char *key, const char **value)
 {
-    if (strcmp(key, "pressure_solver") != 0)
+    const option_entry *e = find_option(key);
+    if (!e)
         return MPS2P_ERR_UNKNOWN_KEY;
-    *value = solver_names[p->pressure_solver];
+    *value = e->names[*(const int *)((const char *)p + e->offset)];
     return MPS2P_OK;
 }
 
 const char *params_option_key(size_t index)
 {
-    static const char *const keys[] = {"pressure_solver"};
-    return index < sizeof keys / sizeof keys[0] ? keys[index] : NULL;
+    return index < OPTION_COUNT ? options[index].key : NULL;
 }
 
 double params_max_radius(const params *p)

@@ -1,5 +1,5 @@
 /* Pressure Poisson equation: assemble the sparse system and solve it.
- *   -<lap p>_i + (rho_i kappa / dt^2) p_i = gamma (rho_i / dt^2) (n*_i - n0) / n0
+ *   -<lap p>_i + (rho_i kappa / dt^2) p_i = source_i (see source_term)
  * over fluid and wall particles that are not free surface. Free-surface
  * particles are Dirichlet (p = 0), dummy walls carry no pressure. The
  * compressibility term kappa keeps the matrix positive definite even for a
@@ -40,11 +40,35 @@ static int takes_part(const mps2p_solver *s, size_t j)
     return s->kind[j] != MPS2P_KIND_DUMMY;
 }
 
+/* The PPE source, rho/dt^2 times a number-density deviation over n0:
+ *   density  gamma (n* - n0): Koshizuka and Oka, the whole deviation relaxed;
+ *   mixed    (n* - n^k) + gamma (n^k - n0): this step's change (the velocity
+ *            divergence, measured with the number density itself) in full,
+ *            the drift accumulated before it relaxed (after Tanaka and
+ *            Masunaga 2010);
+ *   ecs      (n* - n^k) + |e| (n^k - n0), e = (n^k - n0)/n0: as mixed, with
+ *            the drift's factor the error itself, after Khayyer and Gotoh's
+ *            error-compensating source (a simplified form, not theirs
+ *            exactly): noise-sized errors are hardly amplified by 1/dt^2. */
+static double source_term(const mps2p_solver *s, size_t i, double dt)
+{
+    const double n0 = s->n0_density, gamma = s->params.ppe_relaxation;
+    const double scale = s->density[i] / (dt * dt) / n0;
+    const double n_star = s->number_density[i], n_start = s->number_density_start[i];
+    switch (s->params.ppe_source) {
+    case PPE_SOURCE_MIXED:
+        return scale * ((n_star - n_start) + gamma * (n_start - n0));
+    case PPE_SOURCE_ECS:
+        return scale * ((n_star - n_start) + fabs(n_start - n0) / n0 * (n_start - n0));
+    default:
+        return scale * gamma * (n_star - n0);
+    }
+}
+
 int pressure_solve(mps2p_solver *s, double dt)
 {
     const double re = s->params.re_laplacian * s->l0;
     const double c = 2.0 * 2 / (s->lambda * s->n0_laplacian);
-    const double n0 = s->n0_density;
     const neighbour_list *nl = &s->neighbours;
     const double *position = s->state.position;
     double *pressure = s->state.pressure;
@@ -116,8 +140,7 @@ int pressure_solve(mps2p_solver *s, double dt)
             diagonal_at = next++;
         m->column[diagonal_at] = (int)row;
         m->value[diagonal_at] = diagonal;
-        s->rhs[row] = s->params.ppe_relaxation * s->density[i] / (dt * dt) *
-                      (s->number_density[i] - n0) / n0;
+        s->rhs[row] = source_term(s, i, dt);
         s->solution[row] = pressure[i]; /* warm start for CG */
     }
     m->row_start[unknowns] = next;

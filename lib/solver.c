@@ -34,6 +34,7 @@ void mps2p_solver_destroy(mps2p_solver *s)
     free_state(&s->state);
     free_state(&s->saved);
     free(s->number_density);
+    free(s->number_density_start);
     free(s->scratch);
     free(s->on_surface);
     neighbours_free(&s->neighbours);
@@ -185,13 +186,14 @@ int solver_allocate(mps2p_solver *s, size_t n, int fluid_count)
     s->density = malloc(n * sizeof *s->density);
     s->viscosity = malloc(n * sizeof *s->viscosity);
     s->number_density = calloc(n, sizeof *s->number_density);
+    s->number_density_start = calloc(n, sizeof *s->number_density_start);
     s->scratch = malloc(2 * n * sizeof *s->scratch);
     s->on_surface = calloc(n, sizeof *s->on_surface);
     s->rhs = malloc(n * sizeof *s->rhs);
     s->solution = malloc(n * sizeof *s->solution);
     s->unknown_of = malloc(n * sizeof *s->unknown_of);
     if (!s->fluids || !s->kind || !s->fluid_id || !s->density || !s->viscosity ||
-        !s->number_density || !s->scratch || !s->on_surface || !s->rhs || !s->solution ||
+        !s->number_density || !s->number_density_start || !s->scratch || !s->on_surface || !s->rhs || !s->solution ||
         !s->unknown_of || alloc_state(&s->state, n) != MPS2P_OK ||
         alloc_state(&s->saved, n) != MPS2P_OK)
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory creating a solver for %zu particles", n);
@@ -249,7 +251,7 @@ static int build(mps2p_solver *s, const mps2p_scene *scene)
         return status;
     if (neighbours_update(&s->neighbours, s->state.position) != MPS2P_OK)
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory for the neighbour list");
-    number_density_compute(s);
+    number_density_compute(s, s->number_density);
     return MPS2P_OK;
 }
 
@@ -325,6 +327,7 @@ static int step_with(mps2p_solver *s, double dt)
     save_state(s);
     int status = update_neighbours(s);
     if (status == MPS2P_OK) {
+        number_density_compute(s, s->number_density_start); /* n^k, for the PPE source */
         explicit_forces(s, dt);
         status = update_neighbours(s);
     }
@@ -333,7 +336,7 @@ static int step_with(mps2p_solver *s, double dt)
         status = update_neighbours(s);
     }
     if (status == MPS2P_OK) {
-        number_density_compute(s);
+        number_density_compute(s, s->number_density);
         free_surface_detect(s);
         status = pressure_solve(s, dt);
     }
@@ -373,13 +376,12 @@ int mps2p_solver_advance_to(mps2p_solver *s, double end_time, mps2p_progress_fn 
     while (end_time - s->time > tolerance) {
         double dt = timestep_choose(s);
         double remaining = end_time - s->time;
-        int last = 0;
-        if (remaining <= dt * (1.0 + 1e-9)) {
-            dt = remaining;
-            last = 1;
-        } else if (remaining < 2.0 * dt) {
-            dt = 0.5 * remaining; /* two halves rather than a sliver at the end */
-        }
+        /* Equal steps to the end rather than full ones and a short last one:
+         * the pressure scales with 1/dt^2 times the density error, so a short
+         * last step would bias the pressure read at end_time. */
+        double steps_left = ceil(remaining / dt * (1.0 - 1e-9));
+        int last = steps_left <= 1.0;
+        dt = last ? remaining : remaining / steps_left;
         int status = step_with(s, dt);
         if (status != MPS2P_OK)
             return status;

@@ -1,9 +1,19 @@
 /* Hydrostatic tank: water 0.3 m deep at l0 = 0.01 m, walls on both sides and
  * below, run 2 s. The time-averaged pressure near the bottom must be within
  * 5 % of rho g depth, particles must stay put (RMS displacement < 0.1 l0), and
- * nothing may diverge. */
+ * nothing may diverge.
+ *
+ * It runs the still-water scheme of docs/validation.md: the corrected gradient
+ * (no repulsive background, so the square lattice does not shear), the
+ * error-compensating source, and the collision model acting on every pair
+ * closer than 0.995 l0 (it removes approach velocity only, a damper on the
+ * odd-even row mode). Koshizuka's standard scheme fails this test; that is
+ * measured and explained in the docs. With SCHEME=standard in the environment
+ * the test runs the defaults instead, to show it. */
 #include <mps2p.h>
 #include "check.h"
+
+#include <string.h>
 
 #define L0 0.01
 #define DEPTH 0.30
@@ -17,6 +27,12 @@ int main(void)
     int water;
     MUST(mps2p_scene_create(L0, &scene));
     MUST(mps2p_scene_add_fluid(scene, "water", RHO, 1e-6, &water));
+    const char *scheme = getenv("SCHEME");
+    if (!scheme || strcmp(scheme, "standard") != 0) {
+        MUST(mps2p_scene_set_option(scene, "pressure_gradient", "corrected"));
+        MUST(mps2p_scene_set_option(scene, "ppe_source", "ecs"));
+        MUST(mps2p_scene_set_param(scene, "collision_distance", 0.995));
+    }
     MUST(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.0, WIDTH, DEPTH));
     MUST(mps2p_scene_add_tank(scene, 0.0, 0.0, WIDTH, DEPTH + 0.1, 1));
     mps2p_solver *solver;
