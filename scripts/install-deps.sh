@@ -10,6 +10,8 @@ if [ -n "$missing" ]; then
     apt-get update -qq
     DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $missing >/dev/null
 fi
-# A current Meson from PyPI; numpy and matplotlib for the pictures.
-python3 -m pip install -q --disable-pip-version-check 'meson>=1.1' numpy matplotlib 2>/dev/null ||
-    python3 -m pip install -q --disable-pip-version-check --break-system-packages 'meson>=1.1' numpy matplotlib
+# A current Meson from PyPI; cffi and numpy for the Python binding, matplotlib
+# for the pictures, pytest and h5py for the binding's tests.
+python_packages="meson>=1.1 cffi numpy matplotlib pytest h5py"
+python3 -m pip install -q --disable-pip-version-check $python_packages 2>/dev/null ||
+    python3 -m pip install -q --disable-pip-version-check --break-system-packages $python_packages

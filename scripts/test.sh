@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The README's test command: every test, under AddressSanitizer and
 # UndefinedBehaviorSanitizer, then the installed library as an outside
-# program sees it (pkg-config, exported symbols).
+# program sees it (pkg-config, exported symbols) and the Python binding's
+# tests against that installed library.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -31,6 +32,20 @@ out=$(mktemp -d)
     $(pkg-config --cflags --libs mps2p) -lm -Wl,-rpath,"$(pkg-config --variable=libdir mps2p)"
 "$out/consumer"
 
+echo "== Python binding, installed, against the installed library"
+python3 -m pip install -q --disable-pip-version-check --no-deps --no-build-isolation \
+    --target "$prefix/python" bindings/python >/dev/null
+unset MPS2P_LIBRARY MPS2P_HEADER
+pylog=$(mktemp)
+PYTHONPATH="$prefix/python" python3 -m pytest -q -p no:cacheprovider tests/python | tee "$pylog"
+pypassed=$(grep -oE '[0-9]+ passed' "$pylog" | tail -n1 | awk '{print $1}')
+rm -f "$pylog"
+PYTHONPATH="$prefix/python" "$prefix/python/bin/mps2p" info >"$out/info.txt"
+head -n2 "$out/info.txt"
+# and from the build tree, as the main job uses it
+MPS2P_LIBRARY="$PWD/build-release/lib/libmps2p.so.0" PYTHONPATH=bindings/python \
+    python3 -c 'import mps2p; print("build tree:", mps2p.library_path)'
+
 echo "== exported symbols"
 so=$(find "$prefix" -name 'libmps2p.so.0' | head -n1)
 objdump -p "$so" | grep -q 'SONAME *libmps2p.so.0' || { echo "SONAME is not libmps2p.so.0"; exit 1; }
@@ -40,5 +55,5 @@ if [ -n "$foreign" ]; then
 fi
 echo "only mps2p_ symbols exported ($(nm -D --defined-only "$so" | wc -l) of them)"
 rm -rf "$prefix" "$out"
-# meson's tests, plus the outside-program and exported-symbol checks above
-echo "$((passed + 2)) passed, 0 failed"
+# meson's tests, pytest's, plus the outside-program and exported-symbol checks
+echo "$((passed + pypassed + 2)) passed, 0 failed"

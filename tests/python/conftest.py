@@ -1,10 +1,14 @@
-"""The binding's tests run against whichever libmps2p the package finds:
-MPS2P_LIBRARY (a build tree) or the installed one (pkg-config); see
-scripts/test.sh."""
+"""The binding's tests run against whichever mps2p package Python finds (an
+installed one, as scripts/test.sh does), else this checkout's
+bindings/python; the package finds libmps2p through MPS2P_LIBRARY (a build
+tree) or pkg-config (an installed library)."""
+import importlib.util
 import os
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
-sys.path.insert(0, os.path.join(ROOT, "bindings", "python"))
 SCENES = os.path.join(ROOT, "examples", "scenes")
+if importlib.util.find_spec("mps2p") is None:
+    sys.path.insert(0, os.path.join(ROOT, "bindings", "python"))
+PACKAGE_DIR = os.path.dirname(os.path.dirname(importlib.util.find_spec("mps2p").origin))

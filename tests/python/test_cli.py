@@ -1,0 +1,42 @@
+"""The mps2p command, as a user runs it."""
+import json
+import os
+import subprocess
+import sys
+
+from conftest import PACKAGE_DIR, SCENES
+
+
+def mps2p(*args, cwd=None):
+    env = dict(os.environ)
+    env["PYTHONPATH"] = PACKAGE_DIR + os.pathsep + env.get("PYTHONPATH", "")
+    return subprocess.run([sys.executable, "-m", "mps2p", *args], capture_output=True,
+                          text=True, env=env, cwd=cwd)
+
+
+def test_info_lists_version_and_parameters():
+    result = mps2p("info")
+    assert result.returncode == 0, result.stderr
+    assert "libmps2p 0." in result.stdout and "re_laplacian" in result.stdout
+
+
+def test_check_prints_the_scene():
+    result = mps2p("check", os.path.join(SCENES, "dam_break.toml"))
+    assert result.returncode == 0, result.stderr
+    assert json.loads(result.stdout)["particles"] == 1282
+
+
+def test_run_writes_results(tmp_path):
+    result = mps2p("run", os.path.join(SCENES, "dam_break.toml"), "--out", str(tmp_path),
+                   "--end-time", "0.01", "--no-pictures", "--quiet")
+    assert result.returncode == 0, result.stderr
+    assert "completed" in result.stdout
+    assert (tmp_path / "results.h5").exists() and not (tmp_path / "snapshots.png").exists()
+
+
+def test_a_bad_scene_is_one_clear_line_and_exit_2(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[run]\nl0 = 0.01\n")
+    result = mps2p("check", str(bad))
+    assert result.returncode == 2
+    assert result.stderr.strip() == "mps2p: %s: run.end_time: missing" % bad
