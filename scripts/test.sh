@@ -33,7 +33,7 @@ out=$(mktemp -d)
 "$out/consumer"
 
 echo "== Python binding, installed, against the installed library"
-python3 -m pip install -q --disable-pip-version-check --no-deps --no-build-isolation \
+python3 -m pip install -q --disable-pip-version-check --root-user-action=ignore --no-deps \
     --target "$prefix/python" bindings/python >/dev/null
 unset MPS2P_LIBRARY MPS2P_HEADER
 pylog=$(mktemp)
