@@ -6,7 +6,6 @@ reads OUT_DIR/series.csv (from `mps2p run examples/scenes/dam_break.toml`,
 its `front` probe) or else OUT_DIR/front.txt (from the C example
 examples/dam_break.c), writes OUT_DIR/front.png and prints the front's error
 against the a = 2.25 in series."""
-import glob
 import os
 import sys
 
@@ -64,34 +63,7 @@ def plot_front(out):
         print(f"T = {T:.3f}: Z = {z_sim:.3f} (Martin & Moyce {Z:.3f}, {100 * (z_sim - Z) / Z:+.1f} %)")
 
 
-def plot_snapshots(out):
-    files = sorted(glob.glob(os.path.join(out, "snapshot_*.csv")))[:6]
-    if not files:
-        return
-    fig, axes = plt.subplots(2, 3, figsize=(14, 7.5), squeeze=False)
-    for ax, path in zip(axes.flat, files):
-        d = np.genfromtxt(path, delimiter=",", names=True)
-        t = int(os.path.basename(path)[9:13]) / 1000
-        solid = d["kind"] != 0
-        ax.scatter(d["x"][solid], d["y"][solid], s=2, c="0.6", label="walls")
-        sc = ax.scatter(d["x"][~solid], d["y"][~solid], s=5, c=d["p"][~solid],
-                        cmap="viridis", vmin=0, vmax=5000)
-        ax.set_aspect("equal")
-        ax.set_xlim(-0.05, 0.65)
-        ax.set_ylim(-0.05, 0.5)
-        ax.set_title(f"t = {t:.1f} s")
-        ax.set_xlabel("x (m)")
-        ax.set_ylabel("y (m)")
-    for ax in axes.flat[len(files):]:
-        ax.axis("off")
-    fig.colorbar(sc, ax=axes, label="pressure (Pa)", shrink=0.8)
-    fig.suptitle("Water-only dam break (libmps2p, l0 = 0.01 m)")
-    fig.savefig(os.path.join(out, "snapshots.png"), dpi=100)
-    plt.close(fig)
-
-
 if __name__ == "__main__":
     out_dir = sys.argv[1] if len(sys.argv) > 1 else "out/dam_break"
     plot_front(out_dir)
-    plot_snapshots(out_dir)
     print(f"front picture written to {out_dir}/front.png")

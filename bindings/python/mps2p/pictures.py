@@ -13,12 +13,17 @@ def snapshots_picture(path, snapshots, title):
     count = len(snapshots)
     columns = min(3, count)
     rows = (count + columns - 1) // columns
-    fig, axes = plt.subplots(rows, columns, figsize=(4.6 * columns, 3.9 * rows), squeeze=False)
+    _, xy0, _, kind0 = snapshots[0]
+    # The view: the walls and the initial fluid; spray beyond is cut off.
+    lo, hi = xy0.min(axis=0), xy0.max(axis=0)
+    pad = 0.03 * (hi - lo).max()
+    aspect = (hi[1] - lo[1] + 2 * pad) / (hi[0] - lo[0] + 2 * pad)
+    width = 4.2
+    fig, axes = plt.subplots(rows, columns, figsize=(width * columns + 1.2,
+                                                     width * aspect * rows + 0.8 * rows),
+                             squeeze=False, layout="constrained")
     pmax = max(float(np.percentile(p[k == 0], 99)) if np.any(k == 0) else 0.0
                for _, _, p, k in snapshots) or 1.0
-    all_xy = np.concatenate([xy for _, xy, _, _ in snapshots])
-    lo, hi = all_xy.min(axis=0), all_xy.max(axis=0)
-    pad = 0.03 * (hi - lo).max()
     for ax, (t, xy, p, kind) in zip(axes.flat, snapshots):
         solid = kind != 0
         ax.scatter(xy[solid, 0], xy[solid, 1], s=1.5, c="0.6")
@@ -32,7 +37,7 @@ def snapshots_picture(path, snapshots, title):
         ax.set_ylabel("y (m)")
     for ax in axes.flat[count:]:
         ax.axis("off")
-    fig.colorbar(sc, ax=axes, label="pressure (Pa)", shrink=0.8)
+    fig.colorbar(sc, ax=axes, label="pressure (Pa)", shrink=0.9)
     fig.suptitle(title)
     fig.savefig(path, dpi=100)
     plt.close(fig)

@@ -102,8 +102,8 @@ def run(scene_path, out_dir, end_time=None, pictures=True, log=print):
                         sample()
                 if t in snapshot_times:
                     snapshot()
-                if log:
-                    log("t = %.4f s, %d steps" % (solver.time, solver.step_count))
+                    if log:
+                        log("t = %.4f s, %d steps" % (solver.time, solver.step_count))
         except (errors.DivergedError, errors.SolveError) as e:
             status = "diverged" if isinstance(e, errors.DivergedError) else "solve failed"
             message = str(e)
