@@ -8,7 +8,9 @@
  *      parameters set by name;
  *   3. a solver built from the scene, stepped or advanced to a time;
  *   4. results: fields copied into caller buffers, and statistics by name;
- *   5. files and probes: HDF5 results files, checkpoints, point probes.
+ *   5. files and probes: HDF5 results files, checkpoints, point probes;
+ *   6. effects and costs: which physical effects are on and why, and the
+ *      wall time of each stage of the step.
  *
  * Conventions, everywhere:
  *   - every function that can fail returns an int status: MPS2P_OK (0) on
@@ -176,6 +178,13 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  *                     ppe_relaxation; "mixed": (n* - n^k) + gamma (n^k - n0);
  *                     "ecs": (n* - n^k) + |n^k - n0|/n0 (n^k - n0), an
  *                     error-compensating form (all over n0, times rho/dt^2)
+ *   effect.gravity, effect.viscosity, effect.collision
+ *                     "auto" (default): on when the scene needs it (non-zero
+ *                     gravity; a fluid with viscosity > 0; collision_distance
+ *                     > 0); "on": required (solver creation fails with
+ *                     MPS2P_ERR_INVALID if the scene cannot support it);
+ *                     "off": left out. An effect that is off costs nothing:
+ *                     its stages are not in the step.
  * Water at rest stays still (docs/validation.md) with pressure_gradient
  * "corrected", ppe_source "ecs" and collision_distance 0.995; the defaults
  * let a still square lattice shear and rearrange. */
@@ -253,7 +262,10 @@ MPS2P_API int mps2p_solver_get_last_dt(const mps2p_solver *solver, double *dt);
  *   ppe_residual       relative residual |Ax - b| / |b| of the last solve
  *   surface_particles  particles flagged free surface in the last step
  *   n0, lambda         reference number density and Laplacian constant
- *   neighbour_builds   times the neighbour list was built so far */
+ *   neighbour_builds   times the neighbour list was built so far
+ *   ppe_iterations_total  CG iterations of all solves so far
+ *   memory_bytes       memory the solver holds (arrays, lists, matrix, solver
+ *                      workspace; CHOLMOD's factor is freed after each solve) */
 MPS2P_API int mps2p_solver_get_stat(const mps2p_solver *solver, const char *key,
                                     double *value);
 
@@ -336,6 +348,27 @@ MPS2P_API int mps2p_solver_probe(const mps2p_solver *solver, size_t count,
  * MPS2P_ERR_INVALID if no particle qualifies. */
 MPS2P_API int mps2p_solver_front(const mps2p_solver *solver, int fluid_id, double below_y,
                                  double *front_x);
+
+/* ---------------------------------------------------------------------------
+ * 6. Effects and what the step costs
+ * ------------------------------------------------------------------------- */
+
+/* The physical effects, each on or off for this solver and why: *reason is
+ * "inferred: ..." or "requested: ..." and stays valid while the solver lives.
+ * index runs from 0 to count - 1. Any output pointer may be NULL. */
+MPS2P_API int mps2p_solver_effect_count(const mps2p_solver *solver, size_t *count);
+MPS2P_API int mps2p_solver_get_effect(const mps2p_solver *solver, size_t index,
+                                      const char **name, int *active, const char **reason);
+
+/* The stages of a step in their order (neighbours, viscosity, gravity, ...,
+ * pressure_assembly, pressure_solve, correction, divergence_check): whether
+ * each is in this solver's step, its wall time in seconds and its calls since
+ * creation or the last reset. Timing costs two clock reads per stage. */
+MPS2P_API int mps2p_solver_stage_count(const mps2p_solver *solver, size_t *count);
+MPS2P_API int mps2p_solver_get_stage(const mps2p_solver *solver, size_t index,
+                                     const char **name, int *active, double *seconds,
+                                     uint64_t *calls);
+MPS2P_API int mps2p_solver_reset_stage_timings(mps2p_solver *solver);
 
 #ifdef __cplusplus
 }

@@ -24,6 +24,10 @@ enum pressure_solver_kind { PRESSURE_SOLVER_CHOLMOD = 0, PRESSURE_SOLVER_CG = 1 
 enum pressure_gradient_kind { GRADIENT_MINIMUM = 0, GRADIENT_CORRECTED = 1 };
 enum ppe_source_kind { PPE_SOURCE_DENSITY = 0, PPE_SOURCE_MIXED = 1, PPE_SOURCE_ECS = 2 };
 
+/* Physical effects (effects.c); each is switched by option "effect.<name>". */
+enum effect_id { EFFECT_GRAVITY, EFFECT_VISCOSITY, EFFECT_COLLISION, EFFECT_COUNT };
+enum effect_mode { EFFECT_AUTO = 0, EFFECT_ON = 1, EFFECT_OFF = 2 };
+
 typedef struct params {
     double re_density;
     double re_laplacian;
@@ -46,6 +50,7 @@ typedef struct params {
     int pressure_solver;
     int pressure_gradient;
     int ppe_source;
+    int effect_mode[EFFECT_COUNT];
 } params;
 
 void params_set_defaults(params *p);
@@ -146,10 +151,32 @@ typedef struct linear_solver linear_solver;
 int linear_solver_create(int kind, linear_solver **solver);
 void linear_solver_destroy(linear_solver *solver);
 /* Solves A x = b; x holds the initial guess on entry (used by CG). */
+/* Bytes of workspace, CHOLMOD's included. */
+size_t linear_solver_memory(const linear_solver *solver);
 int linear_solver_solve(linear_solver *solver, const sparse_matrix *a,
                         const double *b, double *x, double tolerance,
                         size_t max_iterations, size_t *iterations,
                         double *residual, char *message, size_t size);
+
+/* ---- the step's stages (stages.c) ---- */
+
+enum stage_id {
+    STAGE_NEIGHBOURS,
+    STAGE_NUMBER_DENSITY_START,
+    STAGE_VISCOSITY,
+    STAGE_GRAVITY,
+    STAGE_ADVECTION,
+    STAGE_COLLISION,
+    STAGE_NUMBER_DENSITY,
+    STAGE_FREE_SURFACE,
+    STAGE_PRESSURE_ASSEMBLY,
+    STAGE_PRESSURE_SOLVE,
+    STAGE_CORRECTION,
+    STAGE_DIVERGENCE_CHECK,
+    STAGE_COUNT
+};
+#define PLAN_CAPACITY 32
+#define EFFECT_REASON_SIZE 160
 
 /* ---- solver state (solver.c and the stages) ---- */
 
@@ -192,10 +219,31 @@ struct mps2p_solver {
     double time, last_dt;
     uint64_t steps;
     size_t ppe_unknowns, ppe_iterations, surface_particles;
+    uint64_t ppe_iterations_total;
     double ppe_residual;
     int diverged;
     char error[ERROR_MESSAGE_SIZE];
+
+    /* the step, assembled from the effects the scene needs (stages.c) */
+    int effect_active[EFFECT_COUNT];
+    char effect_reason[EFFECT_COUNT][EFFECT_REASON_SIZE];
+    int plan[PLAN_CAPACITY];
+    size_t plan_length;
+    int stage_active[STAGE_COUNT];
+    double stage_seconds[STAGE_COUNT];
+    uint64_t stage_calls[STAGE_COUNT];
 };
+
+/* Decides every effect from the scene and the requests (effects.c). */
+int effects_decide(mps2p_solver *s);
+const char *effect_name(int effect);
+/* Decides the effects and lays out the step's stages; allocates what only
+ * an active stage needs (stages.c). */
+int plan_build(mps2p_solver *s);
+/* Runs one step's stages in order, timing each; stops at the first error. */
+int plan_run(mps2p_solver *s, double dt);
+/* Bytes the solver holds: its arrays, lists, matrix and solver workspace. */
+size_t solver_memory_bytes(const mps2p_solver *s);                  /* memory.c */
 
 /* Allocates every per-particle array of a zeroed solver (solver.c); the
  * checkpoint loader fills them instead of a scene. */
@@ -228,11 +276,14 @@ void laplacian_at(const mps2p_solver *s, size_t i, const double *field, size_t c
 
 /* ---- stages, in the order of a step ---- */
 double timestep_choose(const mps2p_solver *s);                   /* timestep.c */
-void explicit_forces(mps2p_solver *s, double dt);                 /* explicit_forces.c */
+void viscosity_apply(mps2p_solver *s, double dt);                 /* explicit_forces.c */
+void gravity_apply(mps2p_solver *s, double dt);                   /* explicit_forces.c */
+void advect(mps2p_solver *s, double dt);                          /* explicit_forces.c */
 void collision_apply(mps2p_solver *s, double dt);                 /* collision.c */
 void number_density_compute(mps2p_solver *s, double *out);                     /* number_density.c */
 void free_surface_detect(mps2p_solver *s);                        /* free_surface.c */
-int pressure_solve(mps2p_solver *s, double dt);                   /* pressure.c */
+int pressure_assemble(mps2p_solver *s, double dt);                /* pressure.c */
+int pressure_solve(mps2p_solver *s);                              /* pressure.c */
 void pressure_correct(mps2p_solver *s, double dt);                /* correction.c */
 int divergence_check(mps2p_solver *s, double dt);                 /* divergence.c */
 

@@ -53,6 +53,16 @@ void linear_solver_destroy(linear_solver *ls)
     free(ls);
 }
 
+size_t linear_solver_memory(const linear_solver *ls)
+{
+    if (!ls)
+        return 0;
+    size_t bytes = sizeof *ls + ls->work_size * sizeof *ls->work;
+    if (ls->kind == PRESSURE_SOLVER_CHOLMOD)
+        bytes += ls->common.memory_inuse; /* what CHOLMOD holds between solves */
+    return bytes;
+}
+
 static void multiply(const sparse_matrix *a, const double *x, double *y)
 {
     for (int i = 0; i < a->rows; i++) {
@@ -108,6 +118,7 @@ static int solve_cholmod(linear_solver *ls, const sparse_matrix *a, const double
     matrix.packed = 1;
 
     cholmod_factor *factor = cholmod_analyze(&matrix, c);
+    fprintf(stderr, "DEBUG analyze status %d selected %d\n", c->status, c->selected);
     if (!factor) {
         snprintf(message, size, "CHOLMOD analysis failed (status %d)", c->status);
         return c->status == CHOLMOD_OUT_OF_MEMORY ? MPS2P_ERR_NOMEM : MPS2P_ERR_SOLVE;

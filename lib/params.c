@@ -75,6 +75,8 @@ void params_set_defaults(params *p)
     p->pressure_solver = PRESSURE_SOLVER_CHOLMOD;
     p->pressure_gradient = GRADIENT_MINIMUM;
     p->ppe_source = PPE_SOURCE_DENSITY;
+    for (int e = 0; e < EFFECT_COUNT; e++)
+        p->effect_mode[e] = EFFECT_AUTO;
 }
 
 int params_set(params *p, const char *key, double value, char *message, size_t size)
@@ -126,6 +128,12 @@ static const option_entry options[] = {
     {"pressure_solver", offsetof(params, pressure_solver), {"cholmod", "cg", NULL}},
     {"pressure_gradient", offsetof(params, pressure_gradient), {"minimum", "corrected", NULL}},
     {"ppe_source", offsetof(params, ppe_source), {"density", "mixed", "ecs", NULL}},
+#define EFFECT_OPTION(key, effect)                                               \
+    {key, offsetof(params, effect_mode) + (effect) * sizeof(int), {"auto", "on", "off", NULL}}
+    EFFECT_OPTION("effect.gravity", EFFECT_GRAVITY),
+    EFFECT_OPTION("effect.viscosity", EFFECT_VISCOSITY),
+    EFFECT_OPTION("effect.collision", EFFECT_COLLISION),
+#undef EFFECT_OPTION
 };
 
 #define OPTION_COUNT (sizeof options / sizeof options[0])

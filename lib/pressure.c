@@ -54,18 +54,16 @@ static double source_term(const mps2p_solver *s, size_t i, double dt)
 {
     const double n0 = s->n0_density, gamma = s->params.ppe_relaxation;
     const double scale = s->density[i] / (dt * dt) / n0;
-    const double n_star = s->number_density[i], n_start = s->number_density_start[i];
-    switch (s->params.ppe_source) {
-    case PPE_SOURCE_MIXED:
-        return scale * ((n_star - n_start) + gamma * (n_start - n0));
-    case PPE_SOURCE_ECS:
-        return scale * ((n_star - n_start) + fabs(n_start - n0) / n0 * (n_start - n0));
-    default:
+    const double n_star = s->number_density[i];
+    if (s->params.ppe_source == PPE_SOURCE_DENSITY)
         return scale * gamma * (n_star - n0);
-    }
+    const double n_start = s->number_density_start[i]; /* allocated for these sources only */
+    if (s->params.ppe_source == PPE_SOURCE_MIXED)
+        return scale * ((n_star - n_start) + gamma * (n_start - n0));
+    return scale * ((n_star - n_start) + fabs(n_start - n0) / n0 * (n_start - n0));
 }
 
-int pressure_solve(mps2p_solver *s, double dt)
+int pressure_assemble(mps2p_solver *s, double dt)
 {
     const double re = s->params.re_laplacian * s->l0;
     const double c = 2.0 * 2 / (s->lambda * s->n0_laplacian);
@@ -80,10 +78,8 @@ int pressure_solve(mps2p_solver *s, double dt)
     s->ppe_unknowns = (size_t)unknowns;
     s->ppe_iterations = 0;
     s->ppe_residual = 0.0;
-    if (unknowns == 0) {
-        memset(pressure, 0, s->count * sizeof *pressure);
+    if (unknowns == 0)
         return MPS2P_OK;
-    }
 
     /* Count the pattern: the diagonal plus unknown neighbours in range. */
     size_t entries = 0;
@@ -144,10 +140,21 @@ int pressure_solve(mps2p_solver *s, double dt)
         s->solution[row] = pressure[i]; /* warm start for CG */
     }
     m->row_start[unknowns] = next;
+    return MPS2P_OK;
+}
 
+int pressure_solve(mps2p_solver *s)
+{
+    double *pressure = s->state.pressure;
+    if (s->ppe_unknowns == 0) {
+        memset(pressure, 0, s->count * sizeof *pressure);
+        return MPS2P_OK;
+    }
+    const sparse_matrix *m = &s->matrix;
+    const size_t unknowns = s->ppe_unknowns;
     size_t max_iterations = s->params.cg_max_iterations > 0.0
                                 ? (size_t)s->params.cg_max_iterations
-                                : 10 * (size_t)unknowns + 100;
+                                : 10 * unknowns + 100;
     char message[ERROR_MESSAGE_SIZE];
     size_t iterations = 0;
     double residual = 0.0;
@@ -155,6 +162,7 @@ int pressure_solve(mps2p_solver *s, double dt)
                                      s->params.cg_tolerance, max_iterations, &iterations,
                                      &residual, message, sizeof message);
     s->ppe_iterations = iterations;
+    s->ppe_iterations_total += iterations;
     s->ppe_residual = residual;
     if (status != MPS2P_OK)
         return fail(s->error, status, "step %llu at t = %.6g s: pressure solve failed: %s",

@@ -157,6 +157,10 @@ int mps2p_solver_get_stat(const mps2p_solver *s, const char *key, double *value)
         *value = s->lambda;
     else if (!strcmp(key, "neighbour_builds"))
         *value = (double)s->neighbours.builds;
+    else if (!strcmp(key, "ppe_iterations_total"))
+        *value = (double)s->ppe_iterations_total;
+    else if (!strcmp(key, "memory_bytes"))
+        *value = (double)solver_memory_bytes(s);
     else
         return fail(NULL, MPS2P_ERR_UNKNOWN_KEY, "unknown statistic \"%s\"", key);
     return MPS2P_OK;

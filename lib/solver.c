@@ -186,14 +186,13 @@ int solver_allocate(mps2p_solver *s, size_t n, int fluid_count)
     s->density = malloc(n * sizeof *s->density);
     s->viscosity = malloc(n * sizeof *s->viscosity);
     s->number_density = calloc(n, sizeof *s->number_density);
-    s->number_density_start = calloc(n, sizeof *s->number_density_start);
     s->scratch = malloc(2 * n * sizeof *s->scratch);
     s->on_surface = calloc(n, sizeof *s->on_surface);
     s->rhs = malloc(n * sizeof *s->rhs);
     s->solution = malloc(n * sizeof *s->solution);
     s->unknown_of = malloc(n * sizeof *s->unknown_of);
     if (!s->fluids || !s->kind || !s->fluid_id || !s->density || !s->viscosity ||
-        !s->number_density || !s->number_density_start || !s->scratch || !s->on_surface || !s->rhs || !s->solution ||
+        !s->number_density || !s->scratch || !s->on_surface || !s->rhs || !s->solution ||
         !s->unknown_of || alloc_state(&s->state, n) != MPS2P_OK ||
         alloc_state(&s->saved, n) != MPS2P_OK)
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory creating a solver for %zu particles", n);
@@ -209,7 +208,7 @@ int solver_start(mps2p_solver *s)
     int status = linear_solver_create(s->params.pressure_solver, &s->linear);
     if (status != MPS2P_OK)
         return fail(NULL, status, "out of memory starting the pressure solver");
-    return MPS2P_OK;
+    return plan_build(s);
 }
 
 static int build(mps2p_solver *s, const mps2p_scene *scene)
@@ -308,16 +307,7 @@ static void restore_state(mps2p_solver *s)
     memcpy(s->state.pressure, s->saved.pressure, s->count * sizeof(double));
 }
 
-static int update_neighbours(mps2p_solver *s)
-{
-    if (neighbours_update(&s->neighbours, s->state.position) != MPS2P_OK)
-        return fail(s->error, MPS2P_ERR_NOMEM,
-                    "step %llu at t = %.6g s: out of memory for the neighbour list",
-                    (unsigned long long)s->steps + 1, s->time);
-    return MPS2P_OK;
-}
-
-/* One MPS step of length dt (METHOD.md section 1, fig. 1 of the paper). */
+/* One step of length dt: the plan of stages (stages.c), rolled back on failure. */
 static int step_with(mps2p_solver *s, double dt)
 {
     if (s->diverged)
@@ -325,27 +315,9 @@ static int step_with(mps2p_solver *s, double dt)
                     "the solver diverged at t = %.6g s; it keeps its last good state but "
                     "cannot step further", s->time);
     save_state(s);
-    int status = update_neighbours(s);
-    if (status == MPS2P_OK) {
-        number_density_compute(s, s->number_density_start); /* n^k, for the PPE source */
-        explicit_forces(s, dt);
-        status = update_neighbours(s);
-    }
-    if (status == MPS2P_OK) {
-        collision_apply(s, dt);
-        status = update_neighbours(s);
-    }
-    if (status == MPS2P_OK) {
-        number_density_compute(s, s->number_density);
-        free_surface_detect(s);
-        status = pressure_solve(s, dt);
-    }
-    if (status == MPS2P_OK) {
-        pressure_correct(s, dt);
-        status = divergence_check(s, dt);
-        if (status == MPS2P_ERR_DIVERGED)
-            s->diverged = 1;
-    }
+    int status = plan_run(s, dt);
+    if (status == MPS2P_ERR_DIVERGED)
+        s->diverged = 1;
     if (status != MPS2P_OK) {
         restore_state(s);
         return status;

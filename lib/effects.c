@@ -1,0 +1,93 @@
+/* Physical effects: which a scene needs, which the user asked for, and why
+ * each is on or off. An effect that is off has its stages left out of the
+ * step (see stages.c), so it costs nothing. Adding an effect: a row here, its
+ * option in params.c, and its stages in stages.c. */
+#include "internal.h"
+
+#include <math.h>
+#include <stdio.h>
+
+/* 1 when the scene gives the effect something to act on; says why either way. */
+typedef int (*needed_fn)(const mps2p_solver *s, char *why, size_t size);
+
+static int gravity_needed(const mps2p_solver *s, char *why, size_t size)
+{
+    const double *g = s->params.gravity;
+    int needed = g[0] != 0.0 || g[1] != 0.0;
+    snprintf(why, size, "gravity is (%g, %g) m/s^2", g[0], g[1]);
+    return needed;
+}
+
+static int viscosity_needed(const mps2p_solver *s, char *why, size_t size)
+{
+    int viscous = 0;
+    for (int f = 0; f < s->fluid_count; f++)
+        viscous += s->fluids[f].viscosity > 0.0;
+    snprintf(why, size, "%d of %d fluids have viscosity > 0", viscous, s->fluid_count);
+    return viscous > 0;
+}
+
+static int collision_needed(const mps2p_solver *s, char *why, size_t size)
+{
+    snprintf(why, size, "collision_distance is %g l0", s->params.collision_distance);
+    return s->params.collision_distance > 0.0;
+}
+
+typedef struct effect_entry {
+    const char *name; /* its option is "effect.<name>" */
+    needed_fn needed;
+} effect_entry;
+
+static const effect_entry effects[EFFECT_COUNT] = {
+    [EFFECT_GRAVITY] = {"gravity", gravity_needed},
+    [EFFECT_VISCOSITY] = {"viscosity", viscosity_needed},
+    [EFFECT_COLLISION] = {"collision", collision_needed},
+};
+
+const char *effect_name(int effect)
+{
+    return effects[effect].name;
+}
+
+int effects_decide(mps2p_solver *s)
+{
+    for (int e = 0; e < EFFECT_COUNT; e++) {
+        char why[EFFECT_REASON_SIZE - 32];
+        int needed = effects[e].needed(s, why, sizeof why);
+        int mode = s->params.effect_mode[e];
+        if (mode == EFFECT_ON && !needed)
+            return fail(NULL, MPS2P_ERR_INVALID,
+                        "effect %s is switched on, but the scene cannot support it: %s",
+                        effects[e].name, why);
+        s->effect_active[e] = mode == EFFECT_AUTO ? needed : mode == EFFECT_ON;
+        snprintf(s->effect_reason[e], sizeof s->effect_reason[e], "%s: %s",
+                 mode == EFFECT_AUTO ? "inferred" : "requested", why);
+    }
+    return MPS2P_OK;
+}
+
+int mps2p_solver_effect_count(const mps2p_solver *s, size_t *count)
+{
+    if (!s || !count)
+        return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_effect_count: %s is NULL",
+                    s ? "count" : "solver");
+    *count = EFFECT_COUNT;
+    return MPS2P_OK;
+}
+
+int mps2p_solver_get_effect(const mps2p_solver *s, size_t index, const char **name,
+                            int *active, const char **reason)
+{
+    if (!s)
+        return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_get_effect: solver is NULL");
+    if (index >= EFFECT_COUNT)
+        return fail(NULL, MPS2P_ERR_INVALID, "effect index %zu is past the last (%d)", index,
+                    EFFECT_COUNT - 1);
+    if (name)
+        *name = effects[index].name;
+    if (active)
+        *active = s->effect_active[index];
+    if (reason)
+        *reason = s->effect_reason[index];
+    return MPS2P_OK;
+}

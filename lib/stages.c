@@ -1,0 +1,217 @@
+/* The step as a plan of stages, assembled from the active effects, and what
+ * each stage costs: wall time and calls, kept per solver. */
+#include "internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static int run_neighbours(mps2p_solver *s, double dt)
+{
+    (void)dt;
+    if (neighbours_update(&s->neighbours, s->state.position) != MPS2P_OK)
+        return fail(s->error, MPS2P_ERR_NOMEM,
+                    "step %llu at t = %.6g s: out of memory for the neighbour list",
+                    (unsigned long long)s->steps + 1, s->time);
+    return MPS2P_OK;
+}
+
+static int run_number_density_start(mps2p_solver *s, double dt)
+{
+    (void)dt;
+    number_density_compute(s, s->number_density_start);
+    return MPS2P_OK;
+}
+
+static int run_viscosity(mps2p_solver *s, double dt)
+{
+    viscosity_apply(s, dt);
+    return MPS2P_OK;
+}
+
+static int run_gravity(mps2p_solver *s, double dt)
+{
+    gravity_apply(s, dt);
+    return MPS2P_OK;
+}
+
+static int run_advection(mps2p_solver *s, double dt)
+{
+    advect(s, dt);
+    return MPS2P_OK;
+}
+
+static int run_collision(mps2p_solver *s, double dt)
+{
+    collision_apply(s, dt);
+    return MPS2P_OK;
+}
+
+static int run_number_density(mps2p_solver *s, double dt)
+{
+    (void)dt;
+    number_density_compute(s, s->number_density);
+    return MPS2P_OK;
+}
+
+static int run_free_surface(mps2p_solver *s, double dt)
+{
+    (void)dt;
+    free_surface_detect(s);
+    return MPS2P_OK;
+}
+
+static int run_pressure_assembly(mps2p_solver *s, double dt)
+{
+    return pressure_assemble(s, dt);
+}
+
+static int run_pressure_solve(mps2p_solver *s, double dt)
+{
+    (void)dt;
+    return pressure_solve(s);
+}
+
+static int run_correction(mps2p_solver *s, double dt)
+{
+    pressure_correct(s, dt);
+    return MPS2P_OK;
+}
+
+static int run_divergence_check(mps2p_solver *s, double dt)
+{
+    return divergence_check(s, dt);
+}
+
+static int uses_start_density(const mps2p_solver *s)
+{
+    return s->params.ppe_source != PPE_SOURCE_DENSITY;
+}
+
+typedef struct stage_entry {
+    const char *name;
+    int effect;                              /* the effect it belongs to, or -1 */
+    int (*wanted)(const mps2p_solver *s);    /* extra condition, or NULL */
+    int (*run)(mps2p_solver *s, double dt);
+} stage_entry;
+
+static const stage_entry stages[STAGE_COUNT] = {
+    [STAGE_NEIGHBOURS] = {"neighbours", -1, NULL, run_neighbours},
+    [STAGE_NUMBER_DENSITY_START] = {"number_density_start", -1, uses_start_density,
+                                    run_number_density_start},
+    [STAGE_VISCOSITY] = {"viscosity", EFFECT_VISCOSITY, NULL, run_viscosity},
+    [STAGE_GRAVITY] = {"gravity", EFFECT_GRAVITY, NULL, run_gravity},
+    [STAGE_ADVECTION] = {"advection", -1, NULL, run_advection},
+    [STAGE_COLLISION] = {"collision", EFFECT_COLLISION, NULL, run_collision},
+    [STAGE_NUMBER_DENSITY] = {"number_density", -1, NULL, run_number_density},
+    [STAGE_FREE_SURFACE] = {"free_surface", -1, NULL, run_free_surface},
+    [STAGE_PRESSURE_ASSEMBLY] = {"pressure_assembly", -1, NULL, run_pressure_assembly},
+    [STAGE_PRESSURE_SOLVE] = {"pressure_solve", -1, NULL, run_pressure_solve},
+    [STAGE_CORRECTION] = {"correction", -1, NULL, run_correction},
+    [STAGE_DIVERGENCE_CHECK] = {"divergence_check", -1, NULL, run_divergence_check},
+};
+
+/* One MPS step (METHOD.md section 1, fig. 1 of the paper), in order. The
+ * neighbour list is brought up to date after each stage that moves particles. */
+static const int sequence[] = {
+    STAGE_NEIGHBOURS,     STAGE_NUMBER_DENSITY_START, STAGE_VISCOSITY,
+    STAGE_GRAVITY,        STAGE_ADVECTION,            STAGE_NEIGHBOURS,
+    STAGE_COLLISION,      STAGE_NEIGHBOURS,           STAGE_NUMBER_DENSITY,
+    STAGE_FREE_SURFACE,   STAGE_PRESSURE_ASSEMBLY,    STAGE_PRESSURE_SOLVE,
+    STAGE_CORRECTION,     STAGE_DIVERGENCE_CHECK,
+};
+#define SEQUENCE_LENGTH (sizeof sequence / sizeof sequence[0])
+
+static int stage_active(const mps2p_solver *s, int stage)
+{
+    const stage_entry *e = &stages[stage];
+    return (e->effect < 0 || s->effect_active[e->effect]) && (!e->wanted || e->wanted(s));
+}
+
+int plan_build(mps2p_solver *s)
+{
+    int status = effects_decide(s);
+    if (status != MPS2P_OK)
+        return status;
+    s->plan_length = 0;
+    for (size_t k = 0; k < SEQUENCE_LENGTH; k++) {
+        int stage = sequence[k];
+        if (!stage_active(s, stage))
+            continue;
+        /* nothing moved since the last neighbour update: skip the repeat */
+        if (stage == STAGE_NEIGHBOURS && s->plan_length > 0 &&
+            s->plan[s->plan_length - 1] == STAGE_NEIGHBOURS)
+            continue;
+        s->plan[s->plan_length++] = stage;
+    }
+    for (int stage = 0; stage < STAGE_COUNT; stage++)
+        s->stage_active[stage] = stage_active(s, stage);
+    /* arrays of stages that are off are never allocated */
+    if (s->stage_active[STAGE_NUMBER_DENSITY_START] && !s->number_density_start) {
+        s->number_density_start = calloc(s->count, sizeof *s->number_density_start);
+        if (!s->number_density_start)
+            return fail(NULL, MPS2P_ERR_NOMEM, "out of memory for %zu number densities",
+                        s->count);
+    }
+    return MPS2P_OK;
+}
+
+static double seconds_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+int plan_run(mps2p_solver *s, double dt)
+{
+    double before = seconds_now();
+    for (size_t k = 0; k < s->plan_length; k++) {
+        int stage = s->plan[k];
+        int status = stages[stage].run(s, dt);
+        double after = seconds_now();
+        s->stage_seconds[stage] += after - before;
+        s->stage_calls[stage]++;
+        before = after;
+        if (status != MPS2P_OK)
+            return status;
+    }
+    return MPS2P_OK;
+}
+
+int mps2p_solver_stage_count(const mps2p_solver *s, size_t *count)
+{
+    if (!s || !count)
+        return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_stage_count: %s is NULL",
+                    s ? "count" : "solver");
+    *count = STAGE_COUNT;
+    return MPS2P_OK;
+}
+
+int mps2p_solver_get_stage(const mps2p_solver *s, size_t index, const char **name,
+                           int *active, double *seconds, uint64_t *calls)
+{
+    if (!s)
+        return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_get_stage: solver is NULL");
+    if (index >= STAGE_COUNT)
+        return fail(NULL, MPS2P_ERR_INVALID, "stage index %zu is past the last (%d)", index,
+                    STAGE_COUNT - 1);
+    if (name)
+        *name = stages[index].name;
+    if (active)
+        *active = s->stage_active[index];
+    if (seconds)
+        *seconds = s->stage_seconds[index];
+    if (calls)
+        *calls = s->stage_calls[index];
+    return MPS2P_OK;
+}
+
+int mps2p_solver_reset_stage_timings(mps2p_solver *s)
+{
+    if (!s)
+        return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_reset_stage_timings: solver is NULL");
+    memset(s->stage_seconds, 0, sizeof s->stage_seconds);
+    memset(s->stage_calls, 0, sizeof s->stage_calls);
+    return MPS2P_OK;
+}

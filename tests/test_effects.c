@@ -1,0 +1,254 @@
+/* Effects and stages: a scene pays only for what it needs, an effect can be
+ * switched on or off explicitly, impossible requests are refused, and
+ * inferred and requested effects give bitwise the same run. */
+#include <mps2p.h>
+#include "check.h"
+#include "scenes.h"
+
+#include <string.h>
+
+static int stage_index(const mps2p_solver *solver, const char *wanted)
+{
+    size_t count;
+    MUST(mps2p_solver_stage_count(solver, &count));
+    for (size_t i = 0; i < count; i++) {
+        const char *name;
+        MUST(mps2p_solver_get_stage(solver, i, &name, NULL, NULL, NULL));
+        if (strcmp(name, wanted) == 0)
+            return (int)i;
+    }
+    return -1;
+}
+
+static uint64_t stage_calls(const mps2p_solver *solver, const char *name, int *active)
+{
+    int index = stage_index(solver, name);
+    CHECK(index >= 0, "no stage %s", name);
+    uint64_t calls = 0;
+    if (index >= 0)
+        MUST(mps2p_solver_get_stage(solver, (size_t)index, NULL, active, NULL, &calls));
+    return calls;
+}
+
+static int effect_active(const mps2p_solver *solver, const char *wanted, const char **reason)
+{
+    size_t count;
+    MUST(mps2p_solver_effect_count(solver, &count));
+    for (size_t i = 0; i < count; i++) {
+        const char *name;
+        int active;
+        MUST(mps2p_solver_get_effect(solver, i, &name, &active, reason));
+        if (strcmp(name, wanted) == 0)
+            return active;
+    }
+    CHECK(0, "no effect %s", wanted);
+    return -1;
+}
+
+static mps2p_solver *make(mps2p_scene *scene)
+{
+    mps2p_solver *solver;
+    MUST(mps2p_solver_create(scene, &solver));
+    mps2p_scene_destroy(scene);
+    return solver;
+}
+
+static void run_steps(mps2p_solver *solver, int steps)
+{
+    for (int k = 0; k < steps; k++)
+        MUST(mps2p_solver_step(solver));
+}
+
+static mps2p_scene *inviscid_dam_break(void)
+{
+    mps2p_scene *scene;
+    int water;
+    MUST(mps2p_scene_create(0.02, &scene));
+    MUST(mps2p_scene_add_fluid(scene, "water", 1000.0, 0.0, &water));
+    MUST(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.0, 0.16, 0.3));
+    MUST(mps2p_scene_add_tank(scene, 0.0, 0.0, 0.6, 0.5, 1));
+    return scene;
+}
+
+/* What the scene needs is on, the rest is off and never called. */
+static void test_inferred_effects(void)
+{
+    mps2p_solver *viscous = make(dam_break_scene(0.02));
+    mps2p_solver *inviscid = make(inviscid_dam_break());
+    run_steps(viscous, 10);
+    run_steps(inviscid, 10);
+    const char *reason;
+    CHECK(effect_active(viscous, "viscosity", &reason) == 1, "viscous fluid, viscosity off");
+    CHECK(strstr(reason, "inferred") && strstr(reason, "1 of 1"), "reason: %s", reason);
+    CHECK(effect_active(inviscid, "viscosity", &reason) == 0, "inviscid fluid, viscosity on");
+    CHECK(strstr(reason, "inferred") && strstr(reason, "0 of 1"), "reason: %s", reason);
+    CHECK(effect_active(inviscid, "gravity", NULL) == 1, "gravity should be on");
+    int active;
+    CHECK(stage_calls(viscous, "viscosity", &active) == 10 && active, "viscosity calls");
+    CHECK(stage_calls(inviscid, "viscosity", &active) == 0 && !active,
+          "an inviscid scene called the viscosity stage");
+    CHECK(stage_calls(inviscid, "pressure_solve", NULL) == 10, "pressure_solve calls");
+    /* the default density source needs no start-of-step number density */
+    CHECK(stage_calls(inviscid, "number_density_start", &active) == 0 && !active,
+          "number_density_start ran with the density source");
+    uint64_t calls;
+    double seconds;
+    int index = stage_index(inviscid, "pressure_solve");
+    MUST(mps2p_solver_get_stage(inviscid, (size_t)index, NULL, NULL, &seconds, &calls));
+    CHECK(seconds > 0.0, "pressure_solve took %g s", seconds);
+    MUST(mps2p_solver_reset_stage_timings(inviscid));
+    CHECK(stage_calls(inviscid, "pressure_solve", NULL) == 0, "reset left calls");
+    mps2p_solver_destroy(viscous);
+    mps2p_solver_destroy(inviscid);
+}
+
+/* Arrays of stages that are off are not allocated: the start-of-step number
+ * density (8 bytes a particle) exists only for the mixed and ecs sources. */
+static void test_memory_follows_stages(void)
+{
+    mps2p_scene *with = dam_break_scene(0.02);
+    MUST(mps2p_scene_set_option(with, "ppe_source", "ecs"));
+    mps2p_solver *ecs = make(with), *density = make(dam_break_scene(0.02));
+    double bytes_ecs, bytes_density;
+    size_t n;
+    MUST(mps2p_solver_get_stat(ecs, "memory_bytes", &bytes_ecs));
+    MUST(mps2p_solver_get_stat(density, "memory_bytes", &bytes_density));
+    MUST(mps2p_solver_particle_count(ecs, &n));
+    CHECK(bytes_ecs - bytes_density == 8.0 * (double)n,
+          "memory %g (ecs) - %g (density) should be 8 bytes x %zu particles", bytes_ecs,
+          bytes_density, n);
+    CHECK(bytes_density > 100.0 * (double)n, "memory %g bytes for %zu particles", bytes_density,
+          n);
+    run_steps(ecs, 3);
+    CHECK(stage_calls(ecs, "number_density_start", NULL) == 3, "ecs needs the start density");
+    mps2p_solver_destroy(ecs);
+    mps2p_solver_destroy(density);
+}
+
+/* Switching an effect off explicitly: no viscous pass, and the run equals
+ * the inviscid fluid's bit for bit; no collision: the dam break still runs. */
+static void test_switched_off(void)
+{
+    mps2p_scene *scene = dam_break_scene(0.02);
+    MUST(mps2p_scene_set_option(scene, "effect.viscosity", "off"));
+    mps2p_solver *off = make(scene);
+    mps2p_scene *inviscid_scene;
+    int water;
+    MUST(mps2p_scene_create(0.02, &inviscid_scene));
+    MUST(mps2p_scene_add_fluid(inviscid_scene, "water", 1000.0, 0.0, &water));
+    MUST(mps2p_scene_add_fluid_box(inviscid_scene, water, 0.0, 0.0, 0.15, 0.30));
+    MUST(mps2p_scene_add_tank(inviscid_scene, 0.0, 0.0, 0.6, 0.7, 1));
+    mps2p_solver *inviscid = make(inviscid_scene);
+    const char *reason;
+    CHECK(effect_active(off, "viscosity", &reason) == 0, "viscosity switched off but on");
+    CHECK(strstr(reason, "requested"), "reason: %s", reason);
+    MUST(mps2p_solver_advance_to(off, 0.1, NULL, NULL));
+    MUST(mps2p_solver_advance_to(inviscid, 0.1, NULL, NULL));
+    CHECK(stage_calls(off, "viscosity", NULL) == 0, "viscosity ran while off");
+    size_t n;
+    MUST(mps2p_solver_particle_count(off, &n));
+    double *a = malloc(2 * n * sizeof *a), *b = malloc(2 * n * sizeof *b);
+    MUST(mps2p_solver_get_positions(off, a, 2 * n));
+    MUST(mps2p_solver_get_positions(inviscid, b, 2 * n));
+    CHECK(memcmp(a, b, 2 * n * sizeof *a) == 0,
+          "viscosity off differs from an inviscid fluid");
+    free(a);
+    free(b);
+    mps2p_solver_destroy(off);
+    mps2p_solver_destroy(inviscid);
+
+    scene = dam_break_scene(0.02);
+    MUST(mps2p_scene_set_option(scene, "effect.collision", "off"));
+    mps2p_solver *no_collision = make(scene);
+    int status = mps2p_solver_advance_to(no_collision, 0.5, NULL, NULL);
+    CHECK(status == MPS2P_OK, "dam break without collision: %s",
+          mps2p_solver_last_error(no_collision));
+    CHECK(stage_calls(no_collision, "collision", NULL) == 0, "collision ran while off");
+    mps2p_solver_destroy(no_collision);
+}
+
+/* A still tank without gravity and without viscosity stays exactly still. */
+static void test_quiescent_without_viscosity(void)
+{
+    mps2p_scene *scene = tank_scene(0.02, 0.2, 0.1);
+    MUST(mps2p_scene_set_param(scene, "gravity_y", 0.0));
+    MUST(mps2p_scene_set_option(scene, "effect.viscosity", "off"));
+    mps2p_solver *solver = make(scene);
+    CHECK(effect_active(solver, "gravity", NULL) == 0, "zero gravity but gravity on");
+    MUST(mps2p_solver_advance_to(solver, 0.5, NULL, NULL));
+    double speed;
+    MUST(mps2p_solver_get_stat(solver, "max_speed", &speed));
+    CHECK(speed == 0.0, "a tank without forces moves at %g m/s", speed);
+    CHECK(stage_calls(solver, "gravity", NULL) == 0, "gravity ran with zero gravity");
+    mps2p_solver_destroy(solver);
+}
+
+/* Requests the scene cannot support are refused, naming the effect and why. */
+static void test_impossible_requests(void)
+{
+    struct {
+        const char *option, *param;
+        double value;
+        const char *words;
+    } cases[] = {
+        {"effect.viscosity", NULL, 0.0, "viscosity"},
+        {"effect.gravity", "gravity_y", 0.0, "gravity"},
+        {"effect.collision", "collision_distance", 0.0, "collision"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        mps2p_scene *scene = inviscid_dam_break();
+        MUST(mps2p_scene_set_option(scene, cases[k].option, "on"));
+        if (cases[k].param)
+            MUST(mps2p_scene_set_param(scene, cases[k].param, cases[k].value));
+        mps2p_solver *solver = NULL;
+        int status = mps2p_solver_create(scene, &solver);
+        CHECK(status == MPS2P_ERR_INVALID && !solver, "%s on: status %d", cases[k].option,
+              status);
+        CHECK(strstr(mps2p_last_error(), cases[k].words) &&
+                  strstr(mps2p_last_error(), "cannot support"),
+              "message: %s", mps2p_last_error());
+        mps2p_scene_destroy(scene);
+    }
+    mps2p_scene *scene = inviscid_dam_break();
+    CHECK(mps2p_scene_set_option(scene, "effect.gravity", "maybe") == MPS2P_ERR_INVALID,
+          "effect mode \"maybe\" accepted");
+    CHECK(strstr(mps2p_last_error(), "\"auto\", \"on\", \"off\""), "message: %s",
+          mps2p_last_error());
+    mps2p_scene_destroy(scene);
+}
+
+/* Every effect inferred and every effect requested give the same bits. */
+static void test_inferred_equals_requested(void)
+{
+    mps2p_scene *requested_scene = dam_break_scene(0.02);
+    MUST(mps2p_scene_set_option(requested_scene, "effect.gravity", "on"));
+    MUST(mps2p_scene_set_option(requested_scene, "effect.viscosity", "on"));
+    MUST(mps2p_scene_set_option(requested_scene, "effect.collision", "on"));
+    mps2p_solver *inferred = make(dam_break_scene(0.02)), *requested = make(requested_scene);
+    MUST(mps2p_solver_advance_to(inferred, 0.1, NULL, NULL));
+    MUST(mps2p_solver_advance_to(requested, 0.1, NULL, NULL));
+    size_t n;
+    MUST(mps2p_solver_particle_count(inferred, &n));
+    double *a = malloc(2 * n * sizeof *a), *b = malloc(2 * n * sizeof *b);
+    MUST(mps2p_solver_get_positions(inferred, a, 2 * n));
+    MUST(mps2p_solver_get_positions(requested, b, 2 * n));
+    CHECK(memcmp(a, b, 2 * n * sizeof *a) == 0, "inferred and requested effects differ");
+    MUST(mps2p_solver_get_velocities(inferred, a, 2 * n));
+    MUST(mps2p_solver_get_velocities(requested, b, 2 * n));
+    CHECK(memcmp(a, b, 2 * n * sizeof *a) == 0, "inferred and requested velocities differ");
+    free(a);
+    free(b);
+    mps2p_solver_destroy(inferred);
+    mps2p_solver_destroy(requested);
+}
+
+int main(void)
+{
+    test_inferred_effects();
+    test_memory_follows_stages();
+    test_switched_off();
+    test_quiescent_without_viscosity();
+    test_impossible_requests();
+    test_inferred_equals_requested();
+    return check_summary("test_effects");
+}
