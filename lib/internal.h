@@ -121,6 +121,7 @@ typedef struct neighbour_list {
     size_t *cell_particle;
     size_t *particle_cell;
     unsigned long builds;
+    int stale;           /* a rebuild failed half-way: rebuild at the next update */
 } neighbour_list;
 
 int neighbours_init(neighbour_list *list, size_t count, double cutoff, double skin,

@@ -65,7 +65,7 @@ static size_t cell_coordinate(double x, double origin, double size, size_t cells
 
 static int needs_rebuild(const neighbour_list *list, const double *position)
 {
-    if (list->builds == 0)
+    if (list->builds == 0 || list->stale)
         return 1;
     double limit2 = 0.25 * list->skin * list->skin;
     for (size_t i = 0; i < list->count; i++) {
@@ -150,8 +150,15 @@ int neighbours_update(neighbour_list *list, const double *position)
     if (total > list->capacity) {
         size_t capacity = total + total / 4 + 16;
         size_t *grown = realloc(list->index, capacity * sizeof *grown);
-        if (!grown)
+        if (!grown) {
+            /* start[] already counts the new pairs, index[] cannot hold them:
+             * leave an empty, consistent list and rebuild at the next update
+             * even if the particles are back where the last build saw them
+             * (a failed step restores them). */
+            memset(list->start, 0, (list->count + 1) * sizeof *list->start);
+            list->stale = 1;
             return MPS2P_ERR_NOMEM;
+        }
         list->index = grown;
         list->capacity = capacity;
     }
@@ -159,6 +166,7 @@ int neighbours_update(neighbour_list *list, const double *position)
         gather(list, position, i, list->index + list->start[i]);
     memcpy(list->built_at, position, 2 * list->count * sizeof *position);
     list->builds++;
+    list->stale = 0;
     return MPS2P_OK;
 }
 
