@@ -38,6 +38,13 @@ int linear_solver_create(int kind, linear_solver **out)
         }
         ls->common.print = 0;            /* never print from a library */
         ls->common.error_handler = NULL; /* errors come back in common.status */
+        /* AMD only, the ordering CHOLMOD's default picks for these matrices.
+         * The default also tries METIS when AMD runs out of memory (or fills
+         * in badly), silently: the step would succeed with another ordering
+         * and differ in the last bits from the same run with enough memory.
+         * With one method, running out of memory is an error. */
+        ls->common.nmethods = 1;
+        ls->common.method[0].ordering = CHOLMOD_AMD;
     }
     *out = ls;
     return MPS2P_OK;
@@ -118,7 +125,6 @@ static int solve_cholmod(linear_solver *ls, const sparse_matrix *a, const double
     matrix.packed = 1;
 
     cholmod_factor *factor = cholmod_analyze(&matrix, c);
-    fprintf(stderr, "DEBUG analyze status %d selected %d\n", c->status, c->selected);
     if (!factor) {
         snprintf(message, size, "CHOLMOD analysis failed (status %d)", c->status);
         return c->status == CHOLMOD_OUT_OF_MEMORY ? MPS2P_ERR_NOMEM : MPS2P_ERR_SOLVE;
