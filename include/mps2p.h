@@ -264,6 +264,7 @@ MPS2P_API int mps2p_solver_get_last_dt(const mps2p_solver *solver, double *dt);
  *   n0, lambda         reference number density and Laplacian constant
  *   neighbour_builds   times the neighbour list was built so far
  *   ppe_iterations_total  CG iterations of all solves so far
+ *   dt_next            the time step the next mps2p_solver_step would take (s)
  *   memory_bytes       memory the solver holds (arrays, lists, matrix, solver
  *                      workspace; CHOLMOD's factor is freed after each solve) */
 MPS2P_API int mps2p_solver_get_stat(const mps2p_solver *solver, const char *key,

@@ -37,7 +37,8 @@ python3 -m pip install -q --disable-pip-version-check --root-user-action=ignore 
     --target "$prefix/python" bindings/python >/dev/null
 unset MPS2P_LIBRARY MPS2P_HEADER
 pylog=$(mktemp)
-PYTHONPATH="$prefix/python" python3 -m pytest -q -p no:cacheprovider tests/python | tee "$pylog"
+PYTHONPATH="$prefix/python" MPS2P_EXAMPLES="$PWD/build-release/examples" \
+    python3 -m pytest -q -p no:cacheprovider tests/python | tee "$pylog"
 pypassed=$(grep -oE '[0-9]+ passed' "$pylog" | tail -n1 | awk '{print $1}')
 rm -f "$pylog"
 PYTHONPATH="$prefix/python" "$prefix/python/bin/mps2p" info >"$out/info.txt"

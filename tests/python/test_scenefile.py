@@ -4,6 +4,7 @@ import glob
 import json
 import os
 import textwrap
+import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
@@ -109,11 +110,37 @@ def test_scenes_are_shipped():
 
 @pytest.mark.parametrize("path", SHIPPED, ids=os.path.basename)
 def test_every_shipped_scene_runs(tmp_path, path):
-    summary = run(path, str(tmp_path), end_time=0.02, pictures=True, log=None)
-    assert summary["status"] == "completed", summary["message"]
-    assert summary["time_reached"] == pytest.approx(0.02, abs=1e-12)
+    summary = run(path, str(tmp_path), until=0.02, pictures=True)
+    assert summary["status"] == "ok", summary["reason"]
+    assert summary["time"] == pytest.approx(0.02, abs=1e-12)
     for name in ("results.h5", "results.xdmf", "series.csv", "summary.json", "snapshots.png"):
         assert (tmp_path / name).exists(), name
     header = (tmp_path / "series.csv").read_text().splitlines()[0].split(",")
     assert header == ["time", "step"] + summary["probes"]
-    assert json.loads((tmp_path / "summary.json").read_text())["steps"] == summary["steps"]
+    written = json.loads((tmp_path / "summary.json").read_text())
+    for key in ("status", "reason", "time", "steps", "wall_seconds", "stage_seconds",
+                "particles", "effects", "version"):
+        assert key in written, key
+    assert written["steps"] == summary["steps"] > 0
+    assert written["version"] == mps2p.__version__
+    assert written["stage_seconds"]["pressure_solve"] > 0
+    assert written["particles"]["water"] > 0 and written["particles"]["wall"] > 0
+    assert written["effects"]["gravity"]["active"] is True
+    ET.parse(tmp_path / "results.xdmf")  # the sidecar is well-formed XML
+
+
+def test_a_bad_scene_writes_nothing(tmp_path):
+    path = write(tmp_path, GOOD.replace("[[tank]]", "[effects]\nviscosity = \"on\"\n[[tank]]")
+                 .replace("viscosity = 1e-6", "viscosity = 0.0"))
+    out = tmp_path / "out"
+    with pytest.raises(mps2p.SceneFileError, match="effect viscosity is switched on.*cannot"):
+        run(path, str(out))
+    assert not out.exists()
+
+
+def test_effects_table_switches_effects(tmp_path):
+    path = write(tmp_path, GOOD.replace("[[tank]]", "[effects]\ncollision = \"off\"\n[[tank]]"))
+    summary = run(path, str(tmp_path / "out"), pictures=False)
+    assert summary["effects"]["collision"] == {
+        "active": False, "reason": "requested: collision_distance is 0.5 l0"}
+    assert "collision" not in summary["stage_seconds"]

@@ -1,8 +1,11 @@
 """The `mps2p` command.
 
-    mps2p run SCENE.toml [--out DIR] [--end-time T] [--no-pictures] [--quiet]
-    mps2p check SCENE.toml       # read, check and build the scene, print its size
-    mps2p info                   # library version and path, parameters and defaults
+    mps2p run SCENE.toml [--until T] [--out DIR] [--no-pictures] [--quiet]
+    mps2p info [SCENE.toml]   # without a scene: library version, path, parameters;
+                              # with one: particles, fluids, effects, dt, without running
+    mps2p check SCENE.toml    # read, check and build the scene; print it as JSON
+
+Exit status: 0 done, 1 the run diverged or its pressure solve failed, 2 bad input.
 """
 import argparse
 import json
@@ -17,20 +20,21 @@ def main(argv=None):
     run_parser = commands.add_parser("run", help="run a scene file")
     run_parser.add_argument("scene")
     run_parser.add_argument("--out", default=None, help="output folder (default out/<name>)")
-    run_parser.add_argument("--end-time", type=float, default=None,
-                            help="stop at this time instead of the scene's end_time")
+    run_parser.add_argument("--until", type=float, default=None,
+                            help="stop at this time (s) instead of the scene's end_time")
     run_parser.add_argument("--no-pictures", action="store_true")
-    run_parser.add_argument("--quiet", action="store_true")
+    run_parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    info_parser = commands.add_parser("info", help="the library, or a scene without running it")
+    info_parser.add_argument("scene", nargs="?")
     check_parser = commands.add_parser("check", help="check a scene file and build it")
     check_parser.add_argument("scene")
-    commands.add_parser("info", help="library version, path and parameters")
     args = parser.parse_args(argv)
     try:
         if args.command == "run":
             return _run(args)
         if args.command == "check":
             return _check(args)
-        return _info()
+        return _info(args)
     except errors.Error as e:
         print("mps2p: %s" % e, file=sys.stderr)
         return 2
@@ -40,26 +44,43 @@ def _run(args):
     from .run import run
     from .scenefile import load
     out = args.out or "out/%s" % load(args.scene).name
-    summary = run(args.scene, out, end_time=args.end_time, pictures=not args.no_pictures,
-                  log=None if args.quiet else print)
+    summary = run(args.scene, out, until=args.until, pictures=not args.no_pictures,
+                  progress=not args.quiet)
     print("%s: %s at t = %.4g s after %d steps, %.3g particle-steps/s; results in %s"
-          % (summary["name"], summary["status"], summary["time_reached"], summary["steps"],
-             summary["particle_steps_per_s"] or 0, out))
-    return 0 if summary["status"] == "completed" else 1
-
-
-def _check(args):
-    from .scenefile import load
-    scene_file = load(args.scene)
-    with scene_file.build() as scene:
-        print(json.dumps({"scene": args.scene, "name": scene_file.name, "l0": scene_file.l0,
-                          "particles": scene.particle_count, "fluids": scene.fluids,
-                          "end_time": scene_file.end_time,
-                          "probes": [p["name"] for p in scene_file.probes]}, indent=2))
+          % (summary["name"], summary["status"], summary["time"], summary["steps"],
+             summary["particle_steps_per_second"] or 0, out))
+    if summary["status"] != "ok":
+        print("mps2p: %s" % summary["reason"], file=sys.stderr)
+        return 1
     return 0
 
 
-def _info():
+def _describe(path):
+    from .run import particle_counts
+    from .scenefile import load
+    scene_file = load(path)
+    with scene_file.make_solver() as solver:
+        return {
+            "scene": path, "name": scene_file.name, "l0": scene_file.l0,
+            "end_time": scene_file.end_time,
+            "particles": particle_counts(solver, scene_file.fluids),
+            "fluids": [{"name": f["name"], "density": f["density"],
+                        "viscosity": f["viscosity"]} for f in scene_file.data.get("fluid", [])],
+            "effects": {k: {"active": a, "reason": r} for k, (a, r) in solver.effects().items()},
+            "stages": [k for k, v in solver.stages().items() if v["active"]],
+            "dt_first_step": solver.stat("dt_next"),
+            "probes": [p["name"] for p in scene_file.probes],
+        }
+
+
+def _check(args):
+    print(json.dumps(_describe(args.scene), indent=2))
+    return 0
+
+
+def _info(args):
+    if args.scene:
+        return _check(args)
     import mps2p
     print("libmps2p %s" % mps2p.__version__)
     print("library: %s" % mps2p.library_path)

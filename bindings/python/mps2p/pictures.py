@@ -1,19 +1,26 @@
-"""Pictures of a run (matplotlib, drawn from arrays the solver returned)."""
+"""Pictures of a run (matplotlib, drawn from arrays the solver returned):
+axes in metres, equal aspect, time in each title, a colour bar or legend."""
+import os
+
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+REFERENCE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data",
+                         "martin_moyce_1952.csv")
+PHASE_COLOURS = ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple"]
 
-def snapshots_picture(path, snapshots, title):
-    """Particles of up to six snapshots, fluid coloured by pressure."""
+
+def snapshots_picture(path, snapshots, title, fluid_names, by="pressure"):
+    """Particles of up to six snapshots: fluid coloured by pressure, or by phase."""
     if not snapshots:
         return
     count = len(snapshots)
     columns = min(3, count)
     rows = (count + columns - 1) // columns
-    _, xy0, _, kind0 = snapshots[0]
+    _, xy0, _, _, _ = snapshots[0]
     # The view: the walls and the initial fluid; spray beyond is cut off.
     lo, hi = xy0.min(axis=0), xy0.max(axis=0)
     pad = 0.03 * (hi - lo).max()
@@ -22,13 +29,20 @@ def snapshots_picture(path, snapshots, title):
     fig, axes = plt.subplots(rows, columns, figsize=(width * columns + 1.2,
                                                      width * aspect * rows + 0.8 * rows),
                              squeeze=False, layout="constrained")
-    pmax = max(float(np.percentile(p[k == 0], 99)) if np.any(k == 0) else 0.0
-               for _, _, p, k in snapshots) or 1.0
-    for ax, (t, xy, p, kind) in zip(axes.flat, snapshots):
-        solid = kind != 0
-        ax.scatter(xy[solid, 0], xy[solid, 1], s=1.5, c="0.6")
-        sc = ax.scatter(xy[~solid, 0], xy[~solid, 1], s=3, c=p[~solid], cmap="viridis",
-                        vmin=0, vmax=pmax)
+    fluid = [k == 0 for _, _, _, k, _ in snapshots]
+    pmax = max(float(np.percentile(p[f], 99)) if np.any(f) else 0.0
+               for (_, _, p, _, _), f in zip(snapshots, fluid)) or 1.0
+    scatter = None
+    for ax, (t, xy, p, kind, ids), is_fluid in zip(axes.flat, snapshots, fluid):
+        ax.scatter(xy[~is_fluid, 0], xy[~is_fluid, 1], s=1.5, c="0.6", label="walls")
+        if by == "pressure":
+            scatter = ax.scatter(xy[is_fluid, 0], xy[is_fluid, 1], s=3, c=p[is_fluid],
+                                 cmap="viridis", vmin=0, vmax=pmax)
+        else:
+            for k, name in enumerate(fluid_names):
+                mine = is_fluid & (ids == k)
+                ax.scatter(xy[mine, 0], xy[mine, 1], s=3, label=name,
+                           c=PHASE_COLOURS[k % len(PHASE_COLOURS)])
         ax.set_aspect("equal")
         ax.set_xlim(lo[0] - pad, hi[0] + pad)
         ax.set_ylim(lo[1] - pad, hi[1] + pad)
@@ -37,7 +51,10 @@ def snapshots_picture(path, snapshots, title):
         ax.set_ylabel("y (m)")
     for ax in axes.flat[count:]:
         ax.axis("off")
-    fig.colorbar(sc, ax=axes, label="pressure (Pa)", shrink=0.9)
+    if by == "pressure":
+        fig.colorbar(scatter, ax=axes, label="pressure (Pa)", shrink=0.9)
+    else:
+        axes.flat[0].legend(loc="upper right", markerscale=3, fontsize=8)
     fig.suptitle(title)
     fig.savefig(path, dpi=100)
     plt.close(fig)
@@ -47,12 +64,41 @@ def series_picture(path, names, rows):
     """Each probe against time."""
     data = np.array(rows, dtype=float)
     fig, axes = plt.subplots(len(names), 1, figsize=(7, 2.4 * len(names)), squeeze=False,
-                             sharex=True)
+                             sharex=True, layout="constrained")
     for k, (ax, name) in enumerate(zip(axes.flat, names)):
         ax.plot(data[:, 0], data[:, 2 + k], "-")
         ax.set_ylabel(name)
         ax.grid(alpha=0.3)
     axes.flat[-1].set_xlabel("time (s)")
-    fig.tight_layout()
     fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def martin_moyce():
+    """{a_inch: (T, Z)} of Martin & Moyce (1952), n^2 = 2."""
+    with open(REFERENCE) as f:
+        lines = [line.strip() for line in f if line.strip() and not line.startswith("#")]
+    assert lines[0] == "a_inch,T,Z", lines[0]
+    data = np.array([[float(v) for v in line.split(",")] for line in lines[1:]])
+    return {a: (data[data[:, 0] == a, 1], data[data[:, 0] == a, 2])
+            for a in np.unique(data[:, 0])}
+
+
+def front_picture(path, front, column_width, title, g=9.81):
+    """Surge front Z = z/a against T = t sqrt(2g/a), with Martin & Moyce."""
+    t, z = front[:, 0], front[:, 1]
+    keep = np.isfinite(z)
+    T = t[keep] * np.sqrt(2 * g / column_width)
+    fig, ax = plt.subplots(figsize=(6, 4.5), layout="constrained")
+    ax.plot(T, z[keep] / column_width, "-", label="libmps2p")
+    for (a_inch, (ref_T, ref_Z)), marker in zip(sorted(martin_moyce().items(), reverse=True),
+                                               "osd^"):
+        ax.plot(ref_T, ref_Z, marker, mfc="none", label="Martin & Moyce 1952, a = %g in" % a_inch)
+    ax.set_xlabel("T = t sqrt(2g/a)")
+    ax.set_ylabel("Z = z/a (surge front)")
+    ax.set_xlim(0, min(4.0, T.max() if T.size else 4.0))
+    ax.set_title("%s\nsurge front, a = %g m" % (title, column_width))
+    ax.legend(loc="upper left", fontsize=8)
+    ax.grid(alpha=0.3)
+    fig.savefig(path, dpi=120)
     plt.close(fig)

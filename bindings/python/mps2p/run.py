@@ -2,6 +2,7 @@
 its XDMF sidecar), series.csv, summary.json and pictures."""
 import json
 import os
+import sys
 import time as clock
 
 import numpy as np
@@ -10,7 +11,6 @@ from . import errors
 from ._core import version
 from .results import Results
 from .scenefile import load
-from .solver import Solver
 
 PICTURE_SNAPSHOTS = 6
 
@@ -18,7 +18,7 @@ PICTURE_SNAPSHOTS = 6
 class Probes:
     """Evaluates a scene file's probes on a solver; every probe is one C call."""
 
-    def __init__(self, scene_file, scene):
+    def __init__(self, scene_file):
         self.entries = scene_file.probes
         self.fluid_ids = {name: i for i, name in enumerate(scene_file.fluids)}
         self.l0 = scene_file.l0
@@ -33,7 +33,8 @@ class Probes:
                 values.append(solver.probe([p["at"]])[0][0])
             elif kind == "front":
                 try:
-                    values.append(solver.front(self.fluid_ids[p["fluid"]], p.get("below", 2 * self.l0)))
+                    values.append(solver.front(self.fluid_ids[p["fluid"]],
+                                               p.get("below", 2 * self.l0)))
                 except errors.InvalidArgumentError:
                     values.append(float("nan"))  # no particle of that fluid low enough
             elif kind == "count":
@@ -43,6 +44,40 @@ class Probes:
             else:
                 values.append(solver.stat(p["stat"]))
         return values
+
+
+class Progress:
+    """One line on stderr: time reached, steps, particle-steps per second, ETA.
+    Redrawn in place on a terminal, a line per snapshot otherwise."""
+
+    def __init__(self, end, particles, enabled):
+        self.end, self.particles, self.enabled = end, particles, enabled
+        self.terminal = enabled and sys.stderr.isatty()
+        self.started = clock.perf_counter()
+        self.last_draw = 0.0
+
+    def update(self, solver, snapshot=False, final=False):
+        if not self.enabled:
+            return
+        now = clock.perf_counter()
+        if self.terminal and not (final or now - self.last_draw > 0.2):
+            return
+        if not self.terminal and not (snapshot or final):
+            return
+        self.last_draw = now
+        wall = now - self.started
+        t, steps = solver.time, solver.step_count
+        rate = self.particles * steps / wall if wall > 0 else 0.0
+        eta = wall * (self.end - t) / t if t > 0 else float("nan")
+        filled = int(30 * min(1.0, t / self.end))
+        line = "[%s%s] t = %.4g / %.4g s, %d steps, %.3g particle-steps/s, ETA %s" % (
+            "#" * filled, "." * (30 - filled), t, self.end, steps, rate,
+            "%.0f s" % eta if np.isfinite(eta) else "?")
+        if self.terminal:
+            sys.stderr.write("\r" + line + ("\n" if final else ""))
+        else:
+            sys.stderr.write(line + "\n")
+        sys.stderr.flush()
 
 
 def _schedule(end_time, every):
@@ -55,16 +90,27 @@ def _schedule(end_time, every):
     return times
 
 
-def run(scene_path, out_dir, end_time=None, pictures=True, log=print):
+def particle_counts(solver, fluid_names):
+    kinds, ids = solver.kinds(), solver.fluid_ids()
+    counts = {name: int(np.count_nonzero((kinds == 0) & (ids == k)))
+              for k, name in enumerate(fluid_names)}
+    counts["wall"] = int(np.count_nonzero(kinds == 1))
+    counts["dummy"] = int(np.count_nonzero(kinds == 2))
+    return counts
+
+
+def run(scene_path, out_dir, until=None, pictures=True, progress=False):
     """Runs the scene file into out_dir; returns the summary (also written as
-    summary.json). A divergence ends the run early with status "diverged";
-    what was written until then stays."""
+    summary.json). A scene that cannot be read or built raises before anything
+    is written. A divergence ends the run early with status "diverged": the last
+    good state is written as a final snapshot and everything so far is kept."""
     scene_file = load(scene_path)
-    end = scene_file.end_time if end_time is None else float(end_time)
+    end = scene_file.end_time if until is None else float(until)
+    if not end > 0:
+        raise errors.SceneFileError("%s: the end time must be > 0, got %r" % (scene_path, until))
+    solver = scene_file.make_solver()
     os.makedirs(out_dir, exist_ok=True)
-    with scene_file.build() as scene:
-        solver = Solver(scene)
-        probes = Probes(scene_file, scene)
+    probes = Probes(scene_file)
     n = solver.particle_count
     snapshot_times = set(_schedule(end, scene_file.snapshot_every))
     series_every = scene_file.series_every
@@ -73,7 +119,8 @@ def run(scene_path, out_dir, end_time=None, pictures=True, log=print):
     picks = np.unique(np.linspace(0, len(candidates) - 1, PICTURE_SNAPSHOTS).round().astype(int))
     picture_times = [candidates[k] for k in picks]
     pictures_data, rows = [], []
-    status, message = "completed", ""
+    status, reason = "ok", ""
+    bar = Progress(end, n, progress)
     started = clock.perf_counter()
     with Results(os.path.join(out_dir, "results.h5"), solver, scene_file.text) as results:
         def sample():
@@ -82,12 +129,12 @@ def run(scene_path, out_dir, end_time=None, pictures=True, log=print):
             for name, value in zip(probes.names, values):
                 results.append_series(name, solver.time, value)
 
-        def snapshot():
+        def snapshot(force_picture=False):
             results.write_snapshot(solver)
-            if pictures and any(abs(solver.time - t) <= 1e-9 * max(1.0, end)
-                                for t in picture_times):
+            if pictures and (force_picture or any(abs(solver.time - t) <= 1e-9 * max(1.0, end)
+                                                  for t in picture_times)):
                 pictures_data.append((solver.time, solver.positions(), solver.pressure(),
-                                      solver.kinds()))
+                                      solver.kinds(), solver.fluid_ids()))
 
         sample()
         snapshot()
@@ -100,33 +147,58 @@ def run(scene_path, out_dir, end_time=None, pictures=True, log=print):
                     while solver.time < t - 1e-12 * max(1.0, t):
                         solver.advance_to(t, progress=lambda s: True)  # one step
                         sample()
+                        bar.update(solver)
                 if t in snapshot_times:
                     snapshot()
-                    if log:
-                        log("t = %.4f s, %d steps" % (solver.time, solver.step_count))
+                bar.update(solver, snapshot=t in snapshot_times)
         except (errors.DivergedError, errors.SolveError) as e:
-            status = "diverged" if isinstance(e, errors.DivergedError) else "solve failed"
-            message = str(e)
-            if log:
-                log("stopped: " + message)
+            status = "diverged" if isinstance(e, errors.DivergedError) else "failed"
+            reason = str(e)
+            snapshot(force_picture=True)  # the last good state
+        bar.update(solver, final=True)
     wall = clock.perf_counter() - started
     steps = solver.step_count
+    stages = solver.stages()
+    effects = solver.effects()
     summary = {
-        "library_version": version(), "scene": os.path.abspath(scene_path),
-        "name": scene_file.name, "l0": scene_file.l0, "particles": n,
-        "fluids": scene_file.fluids, "end_time": end, "time_reached": solver.time,
-        "steps": steps, "status": status, "message": message, "wall_time_s": wall,
-        "particle_steps_per_s": n * steps / wall if wall > 0 else None,
-        "final": solver.stats(), "probes": probes.names,
+        "status": status,
+        "reason": reason,
+        "time": solver.time,
+        "steps": steps,
+        "wall_seconds": wall,
+        "stage_seconds": {k: v["seconds"] for k, v in stages.items() if v["active"]},
+        "stage_calls": {k: v["calls"] for k, v in stages.items() if v["active"]},
+        "particles": particle_counts(solver, scene_file.fluids),
+        "effects": {k: {"active": a, "reason": r} for k, (a, r) in effects.items()},
+        "version": version(),
+        "name": scene_file.name,
+        "scene": os.path.abspath(scene_path),
+        "l0": scene_file.l0,
+        "end_time": end,
+        "particle_steps_per_second": n * steps / wall if wall > 0 else None,
+        "memory_bytes": solver.stat("memory_bytes"),
+        "final": solver.stats(),
+        "probes": probes.names,
     }
     _write_series(os.path.join(out_dir, "series.csv"), probes.names, rows)
     with open(os.path.join(out_dir, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)
     if pictures:
-        from .pictures import snapshots_picture, series_picture
-        snapshots_picture(os.path.join(out_dir, "snapshots.png"), pictures_data, scene_file.name)
+        from .pictures import front_picture, series_picture, snapshots_picture
+        title = "%s (libmps2p %s, l0 = %g m)" % (scene_file.name, version(), scene_file.l0)
+        snapshots_picture(os.path.join(out_dir, "snapshots.png"), pictures_data, title,
+                          scene_file.fluids, by="pressure")
+        if len(scene_file.fluids) > 1:
+            snapshots_picture(os.path.join(out_dir, "snapshots_phase.png"), pictures_data,
+                              title, scene_file.fluids, by="phase")
         if probes.names:
             series_picture(os.path.join(out_dir, "series.png"), probes.names, rows)
+        for p in scene_file.probes:
+            if p["type"] == "front" and "compare" in p:
+                k = probes.names.index(p["name"])
+                data = np.array([[r[0], r[2 + k]] for r in rows])
+                front_picture(os.path.join(out_dir, "front.png"), data, p["column_width"],
+                              title)
     solver.close()
     return summary
 

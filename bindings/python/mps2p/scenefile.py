@@ -12,6 +12,7 @@ Layout (every table is optional unless marked):
 
     [parameters]                # numeric parameters of the C library, by name
     [options]                   # named choices, e.g. pressure_solver = "cg"
+    [effects]                   # viscosity = "off" (auto | on | off), as option effect.<name>
 
     [[fluid]]                   # name, density (kg/m^3), viscosity (m^2/s)
     [[fluid_box]]               # fluid = "water", box = [x0, y0, x1, y1]
@@ -22,7 +23,8 @@ Layout (every table is optional unless marked):
 
     [[probe]]                   # name, type and the type's keys:
       type = "pressure"         #   at = [x, y]
-      type = "front"            #   fluid = "water", below = 0.02 (m)
+      type = "front"            #   fluid = "water", below = 0.02 (m); optional
+                                #   compare = "martin_moyce_1952", column_width = 0.15
       type = "count"            #   fluid = "water": its particles (all, not only in the domain)
       type = "stat"             #   stat = "kinetic_energy" (any solver statistic)
 """
@@ -58,11 +60,13 @@ SCHEMA = {
     "wall_box": ({"box": BOX}, {"box"}),
     "particles": ({"file": STRING}, {"file"}),
     "probe": ({"name": STRING, "type": STRING, "at": POINT, "fluid": STRING,
-               "below": NUMBER, "stat": STRING}, {"name", "type"}),
+               "below": NUMBER, "stat": STRING, "compare": STRING, "column_width": NUMBER},
+              {"name", "type"}),
 }
 ARRAYS_OF_TABLES = ("fluid", "fluid_box", "tank", "wall_box", "particles", "probe")
-PROBE_KEYS = {"pressure": {"at"}, "front": {"fluid", "below"}, "count": {"fluid"},
-              "stat": {"stat"}}
+PROBE_KEYS = {"pressure": {"at"}, "front": {"fluid", "below", "compare", "column_width"},
+              "count": {"fluid"}, "stat": {"stat"}}
+FRONT_REFERENCES = ("martin_moyce_1952",)
 PROBE_NAME = re.compile(r"^[A-Za-z0-9_.-]+$")
 
 
@@ -97,6 +101,17 @@ class SceneFile:
             raise
         return scene
 
+    def make_solver(self):
+        """The solver for this scene; what the C library refuses at creation
+        (an effect the scene cannot support, overlapping particles) is reported
+        against this file."""
+        from .solver import Solver
+        with self.build() as scene:
+            try:
+                return Solver(scene)
+            except errors.Error as e:
+                raise errors.SceneFileError("%s: %s" % (self.path, e)) from e
+
     def _build_into(self, scene):
         def call(key, function, *args):
             try:
@@ -108,6 +123,8 @@ class SceneFile:
             call("parameters." + key, scene.set_param, key, value)
         for key, value in self.data.get("options", {}).items():
             call("options." + key, scene.set_option, key, value)
+        for key, value in self.data.get("effects", {}).items():
+            call("effects." + key, scene.set_option, "effect." + key, value)
         ids = {}
         for i, f in enumerate(self.data.get("fluid", [])):
             ids[f["name"]] = call("fluid[%d]" % i, scene.add_fluid, f["name"], f["density"],
@@ -176,18 +193,18 @@ def check(path, data):
     def fail(key, reason):
         raise errors.SceneFileError("%s: %s: %s" % (path, key, reason))
 
-    known = set(SCHEMA) | {"parameters", "options"}
+    known = set(SCHEMA) | {"parameters", "options", "effects"}
     for key in data:
         if key not in known:
             fail(key, "unknown table (known: %s)" % ", ".join(sorted(known)))
     if "run" not in data:
         fail("run", "missing: a scene needs [run] with l0 and end_time")
-    for section in ("parameters", "options"):
+    for section in ("parameters", "options", "effects"):
         table = data.get(section, {})
         if not isinstance(table, dict):
             fail(section, "must be a table")
         for key, value in table.items():
-            want_str = section == "options"
+            want_str = section != "parameters"
             if want_str and not isinstance(value, str):
                 fail("%s.%s" % (section, key), "must be a string, got %r" % (value,))
             if not want_str and not _is_number(value):
@@ -247,7 +264,15 @@ def _check_probes(fail, probes, fluid_names):
             fail(label, "keys %s do not apply to a %s probe" % (sorted(extra), kind))
         missing = PROBE_KEYS[kind] - set(p)
         if kind == "front":
-            missing -= {"below"}
+            missing -= {"below", "compare", "column_width"}
+            if ("compare" in p) != ("column_width" in p):
+                fail(label, "compare and column_width go together (the reference's Z = z/a "
+                     "needs the column width a)")
+            if "compare" in p and p["compare"] not in FRONT_REFERENCES:
+                fail(label + ".compare", "must be one of %s, got %r"
+                     % (list(FRONT_REFERENCES), p["compare"]))
+            if "column_width" in p and not p["column_width"] > 0:
+                fail(label + ".column_width", "must be > 0, got %r" % p["column_width"])
         if missing:
             fail(label, "a %s probe needs %s" % (kind, sorted(missing)))
         if "fluid" in p and p["fluid"] not in fluid_names:

@@ -10,7 +10,8 @@ from ._native import ffi, lib
 
 STAT_KEYS = ("max_speed", "kinetic_energy", "potential_energy", "pressure_min",
              "pressure_max", "ppe_unknowns", "ppe_iterations", "ppe_residual",
-             "surface_particles", "n0", "lambda", "neighbour_builds")
+             "surface_particles", "n0", "lambda", "neighbour_builds", "ppe_iterations_total",
+             "dt_next", "memory_bytes")
 
 
 class Solver:
@@ -137,6 +138,37 @@ class Solver:
     def stats(self):
         """{name: value} of every statistic."""
         return {key: self.stat(key) for key in STAT_KEYS}
+
+    # -- effects and costs -------------------------------------------------
+    def effects(self):
+        """{name: (active, reason)} of every physical effect, in the library's
+        order; reason starts with "inferred:" or "requested:"."""
+        count = ffi.new("size_t *")
+        check(lib.mps2p_solver_effect_count(self.handle, count))
+        name, active, reason = ffi.new("char **"), ffi.new("int *"), ffi.new("char **")
+        result = {}
+        for i in range(count[0]):
+            check(lib.mps2p_solver_get_effect(self.handle, i, name, active, reason))
+            result[ffi.string(name[0]).decode()] = (bool(active[0]),
+                                                    ffi.string(reason[0]).decode())
+        return result
+
+    def stages(self):
+        """{name: {"active", "seconds", "calls"}} for the stages of a step, in
+        order: wall time and calls since creation or reset_stage_timings()."""
+        count = ffi.new("size_t *")
+        check(lib.mps2p_solver_stage_count(self.handle, count))
+        name, active = ffi.new("char **"), ffi.new("int *")
+        seconds, calls = ffi.new("double *"), ffi.new("uint64_t *")
+        result = {}
+        for i in range(count[0]):
+            check(lib.mps2p_solver_get_stage(self.handle, i, name, active, seconds, calls))
+            result[ffi.string(name[0]).decode()] = {
+                "active": bool(active[0]), "seconds": seconds[0], "calls": int(calls[0])}
+        return result
+
+    def reset_stage_timings(self):
+        check(lib.mps2p_solver_reset_stage_timings(self.handle))
 
     # -- probes and checkpoints -------------------------------------------
     def probe(self, points):
