@@ -1,0 +1,169 @@
+#define _POSIX_C_SOURCE 200809L /* clock_gettime */
+/* What each effect costs: the water-only dam break (l0 = 0.01 m, to 0.3 s)
+ * with every effect as the scene infers it, then with one effect switched
+ * off at a time. Prints, as Markdown: time per step per stage, total, memory,
+ * and the cost of each effect as the difference of the runs; and what timing
+ * the stages costs (two clock reads per stage).
+ *
+ *   effects [l0 [end_time [repeats]]]
+ *
+ * The fastest of `repeats` runs is reported (a shared machine is noisy). */
+#include <mps2p.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#define MAX_STAGES 32
+
+typedef struct run_result {
+    double total, per_stage[MAX_STAGES], memory;
+    uint64_t steps, calls[MAX_STAGES];
+    int active[MAX_STAGES];
+} run_result;
+
+static void check(int status, const char *what)
+{
+    if (status < 0) {
+        fprintf(stderr, "%s: %s\n", what, mps2p_last_error());
+        exit(1);
+    }
+}
+
+static double now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static run_result run(double l0, double end, const char *off)
+{
+    mps2p_scene *scene;
+    int water;
+    check(mps2p_scene_create(l0, &scene), "scene");
+    check(mps2p_scene_add_fluid(scene, "water", 1000.0, 1e-6, &water), "fluid");
+    check(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.0, 0.15, 0.3), "column");
+    check(mps2p_scene_add_tank(scene, 0.0, 0.0, 0.6, 0.7, 1), "tank");
+    if (off) {
+        char key[64];
+        snprintf(key, sizeof key, "effect.%s", off);
+        check(mps2p_scene_set_option(scene, key, "off"), key);
+    }
+    mps2p_solver *solver;
+    check(mps2p_solver_create(scene, &solver), "solver");
+    mps2p_scene_destroy(scene);
+    run_result r = {0};
+    double start = now();
+    check(mps2p_solver_advance_to(solver, end, NULL, NULL), "run");
+    r.total = now() - start;
+    check(mps2p_solver_get_step_count(solver, &r.steps), "steps");
+    check(mps2p_solver_get_stat(solver, "memory_bytes", &r.memory), "memory");
+    size_t stages;
+    check(mps2p_solver_stage_count(solver, &stages), "stages");
+    for (size_t k = 0; k < stages && k < MAX_STAGES; k++)
+        check(mps2p_solver_get_stage(solver, k, NULL, &r.active[k], &r.per_stage[k],
+                                     &r.calls[k]), "stage");
+    mps2p_solver_destroy(solver);
+    return r;
+}
+
+static run_result fastest(double l0, double end, const char *off, int repeats)
+{
+    run_result best = run(l0, end, off);
+    for (int k = 1; k < repeats; k++) {
+        run_result r = run(l0, end, off);
+        if (r.total < best.total)
+            best = r;
+    }
+    return best;
+}
+
+int main(int argc, char **argv)
+{
+    double l0 = argc > 1 ? atof(argv[1]) : 0.01;
+    double end = argc > 2 ? atof(argv[2]) : 0.3;
+    int repeats = argc > 3 ? atoi(argv[3]) : 3;
+    const char *effects[] = {NULL, "viscosity", "collision", "gravity"};
+    const char *labels[] = {"all inferred", "viscosity off", "collision off", "gravity off"};
+    run_result results[4];
+    for (int e = 0; e < 4; e++)
+        results[e] = fastest(l0, end, effects[e], repeats);
+
+    /* stage names, from a throw-away solver */
+    mps2p_scene *scene;
+    int water;
+    check(mps2p_scene_create(l0, &scene), "scene");
+    check(mps2p_scene_add_fluid(scene, "water", 1000.0, 1e-6, &water), "fluid");
+    check(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.0, 0.15, 0.3), "column");
+    mps2p_solver *solver;
+    check(mps2p_solver_create(scene, &solver), "solver");
+    mps2p_scene_destroy(scene);
+    size_t stages;
+    check(mps2p_solver_stage_count(solver, &stages), "stages");
+
+    printf("Water-only dam break, l0 = %g m, to t = %g s, fastest of %d runs, "
+           "microseconds per step:\n\n| stage |", l0, end, repeats);
+    for (int e = 0; e < 4; e++)
+        printf(" %s |", labels[e]);
+    printf("\n|---|---|---|---|---|\n");
+    for (size_t k = 0; k < stages; k++) {
+        const char *name;
+        check(mps2p_solver_get_stage(solver, k, &name, NULL, NULL, NULL), "stage");
+        printf("| %s |", name);
+        for (int e = 0; e < 4; e++) {
+            const run_result *r = &results[e];
+            if (r->active[k])
+                printf(" %.1f |", 1e6 * r->per_stage[k] / (double)r->steps);
+            else
+                printf(" off |");
+        }
+        printf("\n");
+    }
+    printf("| **total per step** |");
+    for (int e = 0; e < 4; e++)
+        printf(" **%.1f** |", 1e6 * results[e].total / (double)results[e].steps);
+    printf("\n| steps |");
+    for (int e = 0; e < 4; e++)
+        printf(" %llu |", (unsigned long long)results[e].steps);
+    printf("\n| solver memory (bytes) |");
+    for (int e = 0; e < 4; e++)
+        printf(" %.0f |", results[e].memory);
+    printf("\n\nCost of each effect per step: its own stage in the all-inferred run, and the "
+           "whole step with it minus without it\n(the second also holds what the effect does "
+           "to the flow: without gravity nothing moves, so nothing needs solving).\n\n"
+           "| effect | own stage (us/step) | share of the step | step with minus without "
+           "(us) |\n|---|---|---|---|\n");
+    double with = 1e6 * results[0].total / (double)results[0].steps;
+    for (int e = 1; e < 4; e++) {
+        double own = 0.0;
+        for (size_t k = 0; k < stages; k++) {
+            const char *name;
+            check(mps2p_solver_get_stage(solver, k, &name, NULL, NULL, NULL), "stage");
+            if (strcmp(name, effects[e]) == 0)
+                own = 1e6 * results[0].per_stage[k] / (double)results[0].steps;
+        }
+        double without = 1e6 * results[e].total / (double)results[e].steps;
+        printf("| %s | %.1f | %.1f %% | %.1f |\n", effects[e], own, 100.0 * own / with,
+               with - without);
+    }
+
+    /* what the stage timers cost: two clock reads per stage per step */
+    const int reads = 1000000;
+    double start = now(), sink = 0.0;
+    for (int k = 0; k < reads; k++)
+        sink += now();
+    double per_read = (now() - start) / reads;
+    size_t active = 0;
+    for (size_t k = 0; k < stages; k++)
+        active += results[0].active[k] != 0;
+    double per_step = 1e6 * results[0].total / (double)results[0].steps;
+    printf("\nTiming overhead: one clock read takes %.0f ns; a step makes about %zu "
+           "(one per stage run, plus one), %.2f us, %.3f %% of a %.0f us step.%s\n",
+           1e9 * per_read, active + 3, 1e6 * per_read * (double)(active + 3),
+           100.0 * per_read * (double)(active + 3) * 1e6 / per_step, per_step,
+           sink < 0 ? " " : "");
+    mps2p_solver_destroy(solver);
+    return 0;
+}
