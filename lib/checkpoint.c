@@ -217,7 +217,8 @@ static int read_root(h5_context *ctx, hid_t file, mps2p_solver *s, size_t *count
                surface <= particles;
     for (int d = 0; d < 4; d++)
         sane = sane && isfinite(s->domain[d]);
-    sane = sane && s->domain[2] > s->domain[0] && s->domain[3] > s->domain[1];
+    sane = sane && s->domain[2] > s->domain[0] && s->domain[3] > s->domain[1] &&
+           isfinite(s->domain[2] - s->domain[0]) && isfinite(s->domain[3] - s->domain[1]);
     if (!sane) {
         h5_note_text(ctx, "inconsistent run values (l0 %g, time %g, last dt %g, dt_max %g, "
                      "%llu particles, domain [%g, %g] x [%g, %g])", s->l0, s->time, s->last_dt,

@@ -21,8 +21,12 @@ int neighbours_init(neighbour_list *list, size_t count, double cutoff, double sk
     double width = domain[2] - domain[0], height = domain[3] - domain[1];
     double budget = fmax((double)MIN_CELL_BUDGET, (double)MAX_CELLS_PER_PARTICLE * count);
     double cell = cutoff;
+    /* Cells of at least sqrt(area / budget) and of each side / budget: at
+     * most about 3 budget cells, however long and thin the domain (the area
+     * bound alone let a thin domain have more cells along it than a size_t
+     * holds). The callers make width and height finite. */
     if ((width / cell + 1) * (height / cell + 1) > budget)
-        cell = sqrt(width * height / budget) * 1.01 + cutoff;
+        cell = fmax(sqrt(width * height / budget), fmax(width, height) / budget) * 1.01 + cutoff;
     list->cell_size = cell;
     list->cells[0] = (size_t)(width / cell) + 1;
     list->cells[1] = (size_t)(height / cell) + 1;
@@ -162,7 +166,7 @@ int neighbours_update(neighbour_list *list, const double *position)
         list->index = grown;
         list->capacity = capacity;
     }
-    for (size_t i = 0; i < list->count; i++)
+    for (size_t i = 0; total > 0 && i < list->count; i++) /* no pairs: index may be NULL */
         gather(list, position, i, list->index + list->start[i]);
     memcpy(list->built_at, position, 2 * list->count * sizeof *position);
     list->builds++;

@@ -50,8 +50,8 @@ static int grid_build(probe_grid *g, const mps2p_solver *s, double re)
     double width = hi[0] - lo[0], height = hi[1] - lo[1];
     double budget = fmax((double)MIN_CELL_BUDGET, (double)CELLS_PER_PARTICLE * (double)m);
     double cell = re;
-    if ((width / cell + 1.0) * (height / cell + 1.0) > budget)
-        cell = sqrt(width * height / budget) * 1.01 + re;
+    if ((width / cell + 1.0) * (height / cell + 1.0) > budget) /* as in neighbours.c */
+        cell = fmax(sqrt(width * height / budget), fmax(width, height) / budget) * 1.01 + re;
     g->origin[0] = lo[0];
     g->origin[1] = lo[1];
     g->cell = cell;

@@ -359,9 +359,10 @@ int mps2p_scene_set_domain(mps2p_scene *scene, double xmin, double ymin, double 
 {
     CHECK_SCENE(scene);
     if (!isfinite(xmin) || !isfinite(ymin) || !isfinite(xmax) || !isfinite(ymax) ||
-        xmax <= xmin || ymax <= ymin)
+        xmax <= xmin || ymax <= ymin || !isfinite(xmax - xmin) || !isfinite(ymax - ymin))
         return fail(scene->error, MPS2P_ERR_INVALID,
-                    "domain must be finite with xmax > xmin and ymax > ymin, got "
+                    "domain must be finite, of finite width and height, with xmax > xmin and "
+                    "ymax > ymin, got "
                     "(%g, %g) to (%g, %g)", xmin, ymin, xmax, ymax);
     scene->has_domain = 1;
     scene->domain[0] = xmin;

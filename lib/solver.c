@@ -66,6 +66,14 @@ static int compare_keys(const void *a, const void *b)
     return (p->x > q->x) - (p->x < q->x);
 }
 
+/* A lattice coordinate, clamped far inside long's range so that the +-1
+ * of the neighbour search cannot overflow (lround of a value out of range
+ * is unspecified; such particles are absurdly far apart anyway). */
+static long lattice_index(double offset)
+{
+    return lround(fmax(-1e15, fmin(1e15, offset)));
+}
+
 /* Solid particles from wall boxes become walls when one of their 8 lattice
  * neighbours is not solid (they face fluid or open space), dummies otherwise. */
 static int classify_solids(mps2p_solver *s, const mps2p_scene *scene)
@@ -85,8 +93,8 @@ static int classify_solids(mps2p_solver *s, const mps2p_scene *scene)
     for (size_t i = 0; i < s->count; i++) {
         if (scene->kind[i] == MPS2P_KIND_FLUID)
             continue;
-        keys[m].x = lround((scene->position[2 * i] - x0) / s->l0);
-        keys[m].y = lround((scene->position[2 * i + 1] - y0) / s->l0);
+        keys[m].x = lattice_index((scene->position[2 * i] - x0) / s->l0);
+        keys[m].y = lattice_index((scene->position[2 * i + 1] - y0) / s->l0);
         keys[m].particle = i;
         m++;
     }
@@ -243,6 +251,10 @@ static int build(mps2p_solver *s, const mps2p_scene *scene)
         memcpy(s->domain, scene->domain, sizeof s->domain);
     else
         default_domain(scene, s->domain);
+    if (!isfinite(s->domain[2] - s->domain[0]) || !isfinite(s->domain[3] - s->domain[1]))
+        return fail(NULL, MPS2P_ERR_INVALID,
+                    "the domain [%g, %g] x [%g, %g] is too large: its width or height is not "
+                    "a finite number", s->domain[0], s->domain[2], s->domain[1], s->domain[3]);
     derive_bounds(s);
 
     status = solver_start(s);
