@@ -4,6 +4,7 @@
     mps2p info [SCENE.toml]   # without a scene: library version, path, parameters;
                               # with one: particles, fluids, effects, dt, without running
     mps2p check SCENE.toml    # read, check and build the scene; print it as JSON
+    mps2p study [--quick] [--out DIR]   # the accuracy-cost study
 
 Exit status: 0 done, 1 the run diverged or its pressure solve failed, 2 bad input.
 """
@@ -28,12 +29,21 @@ def main(argv=None):
     info_parser.add_argument("scene", nargs="?")
     check_parser = commands.add_parser("check", help="check a scene file and build it")
     check_parser.add_argument("scene")
+    study_parser = commands.add_parser("study", help="the accuracy-cost study")
+    study_parser.add_argument("--quick", action="store_true",
+                              help="two spacings and few variants (for CI)")
+    study_parser.add_argument("--out", default="out/study")
     args = parser.parse_args(argv)
     try:
         if args.command == "run":
             return _run(args)
         if args.command == "check":
             return _check(args)
+        if args.command == "study":
+            from .study import study
+            study(args.out, quick=args.quick)
+            print("study written to %s (study.csv, study.md, *.png)" % args.out)
+            return 0
         return _info(args)
     except errors.Error as e:
         print("mps2p: %s" % e, file=sys.stderr)

@@ -1,0 +1,229 @@
+"""The accuracy-cost study: what accuracy costs in time.
+
+Sweeps the knobs that trade accuracy for time on two reference problems and
+records, for every run, wall time (total and per stage), particle-steps per
+second, memory and the errors against references:
+
+- dam break (Martin & Moyce 1952, column a = 0.15 m, 2a high, 0.6 m tank):
+  mean |error| of the surge front Z = z/a against the a = 2.25 in series for
+  1 <= T <= 2.5;
+- still tank (water 0.3 m deep, 0.3 m wide, still-water scheme, 2 s): error of
+  the pressure at a probe 0.05 m above the bottom, averaged over the second
+  second, against rho g h, and the pressure noise there (standard deviation
+  over that second / rho g h).
+
+Knobs: particle spacing l0, CFL number, pressure solver (CHOLMOD, CG at two
+tolerances) and the Laplacian radius. `quick` runs the same code on two
+spacings and fewer variants (none for the still tank), small enough for CI.
+
+Output in the folder: study.csv (one row per run), error_vs_time.png (with the
+Pareto front), error_vs_l0.png (with the observed order), time_vs_particles.png
+(log axes, fitted exponent), and study.md (the numbers in plain words).
+"""
+import csv
+import os
+import time as clock
+
+import numpy as np
+
+from .pictures import martin_moyce
+from .scene import Scene
+from .solver import Solver
+
+G = 9.81
+COLUMN = 0.15
+STILL_WATER = {"pressure_gradient": "corrected", "ppe_source": "ecs",
+               "collision_distance": 0.995}
+
+
+def _dam_break(l0, settings):
+    scene = Scene(l0, **settings)
+    water = scene.add_fluid("water", 1000.0, 1e-6)
+    scene.add_fluid_box(water, 0.0, 0.0, COLUMN, 2 * COLUMN)
+    scene.add_tank(0.0, 0.0, 0.6, 0.7)
+    with scene:
+        solver = Solver(scene)
+    T_ref, Z_ref = martin_moyce()[2.25]
+    keep = (T_ref >= 1.0) & (T_ref <= 2.5)
+    scale = np.sqrt(2 * G / COLUMN)
+    errors = []
+    started = clock.perf_counter()
+    for T, Z in zip(T_ref[keep], Z_ref[keep]):
+        solver.advance_to(T / scale)
+        errors.append(abs(solver.front(water, 2 * l0) / COLUMN - Z) / Z)
+    wall = clock.perf_counter() - started
+    return solver, wall, {"front_error": float(np.mean(errors))}
+
+
+def _still_tank(l0, settings, depth=0.3, duration=2.0):
+    merged = dict(STILL_WATER)
+    merged.update(settings)
+    scene = Scene(l0, **merged)
+    water = scene.add_fluid("water", 1000.0, 1e-6)
+    scene.add_fluid_box(water, 0.0, 0.0, depth, depth)
+    scene.add_tank(0.0, 0.0, depth, depth + 0.05)
+    with scene:
+        solver = Solver(scene)
+    probe = [0.5 * depth, depth / 6]
+    expected = 1000.0 * G * (depth - probe[1])
+    samples = []
+    started = clock.perf_counter()
+    for k in range(1, 101):
+        solver.advance_to(k * duration / 100)
+        if k > 50:
+            samples.append(solver.probe([probe])[0][0])
+    wall = clock.perf_counter() - started
+    samples = np.array(samples)
+    return solver, wall, {"pressure_error": float(abs(samples.mean() - expected) / expected),
+                          "pressure_noise": float(samples.std() / expected)}
+
+
+PROBLEMS = {"dam_break": _dam_break, "still_tank": _still_tank}
+
+
+def plan(quick):
+    """(problem, l0, settings, label) for every run."""
+    runs = []
+    for problem in PROBLEMS:
+        levels = [0.02, 0.01] if quick else [0.02, 0.01, 0.005, 0.0025]
+        if problem == "still_tank" and not quick:
+            levels = levels[:3]  # 2 s of a 14400-particle tank is past this study's budget
+        for l0 in levels:
+            runs.append((problem, l0, {}, "default"))
+        base = levels[-1] if quick else 0.01
+        variants = [("cfl 0.1", {"cfl": 0.1}), ("cfl 0.4", {"cfl": 0.4}),
+                    ("cg 1e-9", {"pressure_solver": "cg"})]
+        if not quick:
+            variants += [("cg 1e-6", {"pressure_solver": "cg", "cg_tolerance": 1e-6}),
+                         ("re_laplacian 3.1", {"re_laplacian": 3.1}),
+                         ("re_laplacian 2.1", {"re_laplacian": 2.1})]
+        if quick and problem == "still_tank":
+            continue  # 2 s of still water per run: the quick study keeps the spacings only
+        for label, settings in variants:
+            runs.append((problem, base, settings, label))
+    return runs
+
+
+def run_one(problem, l0, settings):
+    solver, wall, errors = PROBLEMS[problem](l0, settings)
+    with solver:
+        n, steps = solver.particle_count, solver.step_count
+        row = {"problem": problem, "l0": l0, "particles": n, "steps": steps,
+               "wall_seconds": wall, "particle_steps_per_second": n * steps / wall,
+               "memory_bytes": solver.stat("memory_bytes")}
+        for name, stage in solver.stages().items():
+            if stage["active"]:
+                row["stage_" + name] = stage["seconds"]
+    row.update(errors)
+    return row
+
+
+def study(out_dir, quick=False, log=print):
+    os.makedirs(out_dir, exist_ok=True)
+    rows = []
+    for problem, l0, settings, label in plan(quick):
+        row = {"variant": label}
+        row.update(run_one(problem, l0, settings))
+        rows.append(row)
+        if log:
+            log("%-10s l0 = %-7g %-17s %6.2f s  %s" % (
+                problem, l0, label, row["wall_seconds"],
+                "front error %.1f %%" % (100 * row["front_error"]) if "front_error" in row
+                else "pressure error %.2f %%, noise %.1f %%" % (
+                    100 * row["pressure_error"], 100 * row["pressure_noise"])))
+    _write_csv(os.path.join(out_dir, "study.csv"), rows)
+    conclusions = _pictures_and_conclusions(out_dir, rows)
+    with open(os.path.join(out_dir, "study.md"), "w") as f:
+        f.write(conclusions)
+    return rows
+
+
+def _write_csv(path, rows):
+    keys = []
+    for row in rows:
+        keys += [k for k in row if k not in keys]
+    with open(path, "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=keys)
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def _error_of(row):
+    return row["front_error"] if row["problem"] == "dam_break" else row["pressure_error"]
+
+
+def pareto(points):
+    """Indices of the points no other point beats in both time and error."""
+    order = sorted(range(len(points)), key=lambda k: (points[k][0], points[k][1]))
+    front, best = [], float("inf")
+    for k in order:
+        if points[k][1] < best:
+            front.append(k)
+            best = points[k][1]
+    return front
+
+
+def observed_order(l0s, errors):
+    """Slope of log(error) against log(l0) (least squares)."""
+    return float(np.polyfit(np.log(l0s), np.log(errors), 1)[0])
+
+
+def _pictures_and_conclusions(out_dir, rows):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    lines = ["# Accuracy-cost study\n"]
+    fig1, axes1 = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
+    fig2, axes2 = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
+    fig3, ax3 = plt.subplots(figsize=(6, 4.2), layout="constrained")
+    for (ax1, ax2), problem in zip(zip(axes1, axes2), PROBLEMS):
+        mine = [r for r in rows if r["problem"] == problem]
+        points = [(r["wall_seconds"], _error_of(r)) for r in mine]
+        for r, (t, e) in zip(mine, points):
+            ax1.loglog(t, 100 * e, "o")
+            ax1.annotate("%s, l0 %g" % (r["variant"], r["l0"]), (t, 100 * e), fontsize=7)
+        front = pareto(points)
+        ax1.loglog([points[k][0] for k in front], [100 * points[k][1] for k in front], "k--",
+                   label="Pareto front")
+        what = "front error (%)" if problem == "dam_break" else "pressure error (%)"
+        ax1.set_xlabel("wall time (s)")
+        ax1.set_ylabel(what)
+        ax1.set_title(problem)
+        ax1.legend(fontsize=8)
+        levels = sorted((r for r in mine if r["variant"] == "default"), key=lambda r: -r["l0"])
+        l0s = np.array([r["l0"] for r in levels])
+        errs = np.array([_error_of(r) for r in levels])
+        times = np.array([r["wall_seconds"] for r in levels])
+        ax2.loglog(l0s, 100 * errs, "o-")
+        ax2.set_xlabel("l0 (m)")
+        ax2.set_ylabel(what)
+        lines.append("## %s\n" % problem)
+        if len(levels) >= 2 and np.all(errs > 0):
+            order = observed_order(l0s, errs)
+            ax2.set_title("%s: observed order %.2f" % (problem, order))
+            lines.append("Observed order of the error in l0: %.2f (levels %s)." % (
+                order, ", ".join("%g" % v for v in l0s)))
+            for a, b in zip(levels, levels[1:]):
+                lines.append(
+                    "Halving l0 from %g to %g m costs %.1f times the wall time and changes the "
+                    "error from %.2f %% to %.2f %%." % (
+                        a["l0"], b["l0"], b["wall_seconds"] / a["wall_seconds"],
+                        100 * _error_of(a), 100 * _error_of(b)))
+        ax3.loglog([r["particles"] for r in levels], times, "o-", label=problem)
+        if len(levels) >= 2:
+            exponent = float(np.polyfit(np.log([r["particles"] for r in levels]),
+                                        np.log(times), 1)[0])
+            lines.append("Wall time grows as particles^%.2f over these levels (the number of "
+                         "steps grows too, as 1/l0)." % exponent)
+        on_front = ", ".join("%s at l0 %g" % (mine[k]["variant"], mine[k]["l0"]) for k in front)
+        lines.append("Runs on the Pareto front (no other run is both faster and more "
+                     "accurate): %s.\n" % on_front)
+    ax3.set_xlabel("particles")
+    ax3.set_ylabel("wall time (s)")
+    ax3.legend()
+    fig1.savefig(os.path.join(out_dir, "error_vs_time.png"), dpi=100)
+    fig2.savefig(os.path.join(out_dir, "error_vs_l0.png"), dpi=100)
+    fig3.savefig(os.path.join(out_dir, "time_vs_particles.png"), dpi=100)
+    for fig in (fig1, fig2, fig3):
+        plt.close(fig)
+    return "\n".join(lines) + "\n"
