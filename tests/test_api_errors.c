@@ -117,7 +117,91 @@ int main(void)
            "not before the current time");
     int solver_kinds[4];
     EXPECT(mps2p_solver_get_kinds(solver, solver_kinds, 4), MPS2P_ERR_BUFFER, "kinds");
+
+    /* issue 7's audit: every remaining entry point, NULLs and absurd values */
+    int ints[2];
+    uint64_t steps;
+    const char *text;
+    EXPECT(mps2p_solver_get_time(solver, NULL), MPS2P_ERR_NULL, "output pointer");
+    EXPECT(mps2p_solver_get_step_count(NULL, &steps), MPS2P_ERR_NULL, "solver is NULL");
+    EXPECT(mps2p_solver_get_last_dt(solver, NULL), MPS2P_ERR_NULL, "output pointer");
+    EXPECT(mps2p_solver_particle_count(solver, NULL), MPS2P_ERR_NULL, "output pointer");
+    EXPECT(mps2p_solver_get_velocities(solver, small, 4), MPS2P_ERR_BUFFER, "velocities");
+    EXPECT(mps2p_solver_get_number_density(solver, small, 1), MPS2P_ERR_BUFFER, "number");
+    EXPECT(mps2p_solver_get_fluid_ids(solver, ints, 2), MPS2P_ERR_BUFFER, "fluid ids");
+    EXPECT(mps2p_solver_get_stat(solver, NULL, &value), MPS2P_ERR_NULL, "key is NULL");
+    EXPECT(mps2p_solver_advance_to(solver, INFINITY, NULL, NULL), MPS2P_ERR_INVALID, "finite");
+    double points[2] = {NAN, 0.0}, probe_p;
+    EXPECT(mps2p_solver_probe(solver, 1, points, &probe_p, NULL, NULL), MPS2P_ERR_INVALID,
+           "not finite");
+    EXPECT(mps2p_solver_probe(solver, 1, NULL, &probe_p, NULL, NULL), MPS2P_ERR_NULL, "points");
+    EXPECT(mps2p_solver_probe(NULL, 1, points, &probe_p, NULL, NULL), MPS2P_ERR_NULL, "NULL");
+    EXPECT(mps2p_solver_front(solver, 5, INFINITY, &value), MPS2P_ERR_INVALID, "");
+    EXPECT(mps2p_solver_front(solver, -1, INFINITY, NULL), MPS2P_ERR_NULL, "");
+    EXPECT(mps2p_solver_save_checkpoint(NULL, "x.chk"), MPS2P_ERR_NULL, "solver is NULL");
+    EXPECT(mps2p_solver_save_checkpoint(solver, NULL), MPS2P_ERR_NULL, "path is NULL");
+    EXPECT(mps2p_solver_save_checkpoint(solver, ""), MPS2P_ERR_INVALID, "path is empty");
+    EXPECT(mps2p_solver_save_checkpoint(solver, "/nonexistent-dir/x.chk"), MPS2P_ERR_IO,
+           "nonexistent-dir");
+    mps2p_solver *loaded = NULL;
+    EXPECT(mps2p_solver_load_checkpoint(NULL, &loaded), MPS2P_ERR_NULL, "path is NULL");
+    EXPECT(mps2p_solver_load_checkpoint("x.chk", NULL), MPS2P_ERR_NULL, "output pointer");
+    mps2p_results *results = NULL;
+    EXPECT(mps2p_results_create(NULL, solver, NULL, &results), MPS2P_ERR_NULL, "path is NULL");
+    EXPECT(mps2p_results_create("r.h5", NULL, NULL, &results), MPS2P_ERR_NULL, "solver is NULL");
+    EXPECT(mps2p_results_create("r.h5", solver, NULL, NULL), MPS2P_ERR_NULL, "output pointer");
+    EXPECT(mps2p_results_create("", solver, NULL, &results), MPS2P_ERR_INVALID, "empty");
+    EXPECT(mps2p_results_write_snapshot(NULL, solver), MPS2P_ERR_NULL, "results is NULL");
+    EXPECT(mps2p_results_append_series(NULL, "a", 0, 0), MPS2P_ERR_NULL, "NULL");
+    CHECK(mps2p_results_close(NULL) == MPS2P_OK, "closing NULL is OK");
+    CHECK(strcmp(mps2p_results_last_error(NULL), "") != 0, "a NULL handle has a message");
+    CHECK(strcmp(mps2p_solver_last_error(NULL), "") != 0, "a NULL solver has a message");
+    CHECK(strcmp(mps2p_scene_last_error(NULL), "") != 0, "a NULL scene has a message");
     mps2p_solver_destroy(solver);
+    mps2p_scene_destroy(scene);
+
+    /* scene entry points */
+    EXPECT(mps2p_scene_create(INFINITY, &scene), MPS2P_ERR_INVALID, "finite");
+    MUST(mps2p_scene_create(0.01, &scene));
+    int fluids = -1;
+    EXPECT(mps2p_scene_fluid_count(scene, NULL), MPS2P_ERR_NULL, "NULL");
+    EXPECT(mps2p_scene_fluid_count(NULL, &fluids), MPS2P_ERR_NULL, "scene is NULL");
+    EXPECT(mps2p_scene_get_fluid(scene, 0, &text, NULL, NULL), MPS2P_ERR_INVALID, "no fluid");
+    EXPECT(mps2p_scene_set_param(scene, NULL, 1.0), MPS2P_ERR_NULL, "key is NULL");
+    EXPECT(mps2p_scene_set_param(scene, "cfl", INFINITY), MPS2P_ERR_INVALID, "finite");
+    EXPECT(mps2p_scene_set_param(scene, "re_density", 1e300), MPS2P_ERR_INVALID, "must be in");
+    EXPECT(mps2p_scene_get_param(scene, "beta", NULL), MPS2P_ERR_NULL, "NULL");
+    EXPECT(mps2p_scene_set_option(scene, NULL, "cg"), MPS2P_ERR_NULL, "NULL");
+    EXPECT(mps2p_scene_set_option(scene, "pressure_solver", NULL), MPS2P_ERR_NULL, "NULL");
+    EXPECT(mps2p_scene_set_option(scene, "nonsense", "cg"), MPS2P_ERR_UNKNOWN_KEY, "nonsense");
+    EXPECT(mps2p_scene_get_option(scene, "nonsense", &text), MPS2P_ERR_UNKNOWN_KEY, "nonsense");
+    EXPECT(mps2p_scene_get_option(scene, "pressure_solver", NULL), MPS2P_ERR_NULL, "NULL");
+    EXPECT(mps2p_param_info(100000, &text, NULL, NULL), MPS2P_ERR_INVALID, "past the last");
+    EXPECT(mps2p_scene_add_wall_box(NULL, 0, 0, 1, 1), MPS2P_ERR_NULL, "scene is NULL");
+    EXPECT(mps2p_scene_add_wall_box(scene, 0, 0, NAN, 1), MPS2P_ERR_INVALID, "finite");
+    EXPECT(mps2p_scene_add_tank(scene, 0, 0, 1e300, 1e300, 1), MPS2P_ERR_INVALID, "");
+    EXPECT(mps2p_scene_add_tank(scene, -INFINITY, 0, 1, 1, 0), MPS2P_ERR_INVALID, "finite");
+    EXPECT(mps2p_scene_add_particles(scene, 1, NULL, NULL, kinds, ids), MPS2P_ERR_NULL, "NULL");
+    CHECK(mps2p_scene_add_particles(scene, 0, NULL, NULL, NULL, NULL) == MPS2P_OK,
+          "adding no particles is OK");
+    /* a domain whose width overflows (regression: fuzz_scene) */
+    EXPECT(mps2p_scene_set_domain(scene, -1e308, 0, 1e308, 1), MPS2P_ERR_INVALID,
+           "finite width");
+    EXPECT(mps2p_scene_set_domain(scene, 0, 0, 1, NAN), MPS2P_ERR_INVALID, "finite");
+    /* spacing larger than the domain: the particles fall outside it */
+    MUST(mps2p_scene_add_fluid(scene, "water", 1000, 1e-6, &water));
+    MUST(mps2p_scene_add_fluid_box(scene, water, 0, 0, 0.1, 0.1));
+    MUST(mps2p_scene_set_domain(scene, 0, 0, 0.004, 0.004));
+    EXPECT(mps2p_solver_create(scene, &solver), MPS2P_ERR_INVALID, "outside the domain");
+    mps2p_scene_destroy(scene);
+    /* particles so far apart that the default domain overflows (regression) */
+    MUST(mps2p_scene_create(0.01, &scene));
+    MUST(mps2p_scene_add_fluid(scene, "water", 1000, 1e-6, &water));
+    double far[4] = {-1e308, 0.0, 1e308, 0.0};
+    int far_kinds[2] = {MPS2P_KIND_FLUID, MPS2P_KIND_FLUID}, far_ids[2] = {0, 0};
+    MUST(mps2p_scene_add_particles(scene, 2, far, NULL, far_kinds, far_ids));
+    EXPECT(mps2p_solver_create(scene, &solver), MPS2P_ERR_INVALID, "too large");
+    CHECK(solver == NULL, "no solver on failure");
     mps2p_scene_destroy(scene);
     return check_summary("test_api_errors");
 }
