@@ -2,6 +2,9 @@
 # Installs what building and testing libmps2p needs on Debian bookworm (as root).
 set -euo pipefail
 packages="gcc pkg-config ninja-build libgsl-dev libsuitesparse-dev libhdf5-dev binutils python3-pip"
+# scripts/test-reliability.sh: clang with libFuzzer and the sanitizer
+# runtimes, and libabigail's abidw/abidiff.
+packages="$packages clang libclang-rt-14-dev abigail-tools"
 missing=""
 for p in $packages; do
     dpkg -s "$p" >/dev/null 2>&1 || missing="$missing $p"
@@ -11,7 +14,8 @@ if [ -n "$missing" ]; then
     DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $missing >/dev/null
 fi
 # A current Meson from PyPI; cffi and numpy for the Python binding, matplotlib
-# for the pictures, pytest and h5py for the binding's tests.
-python_packages="meson>=1.1 cffi numpy matplotlib pytest h5py"
+# for the pictures, pytest and h5py for the binding's tests, hypothesis for
+# the scene-file property tests.
+python_packages="meson>=1.1 cffi numpy matplotlib pytest h5py hypothesis"
 python3 -m pip install -q --disable-pip-version-check $python_packages 2>/dev/null ||
     python3 -m pip install -q --disable-pip-version-check --break-system-packages $python_packages
