@@ -371,6 +371,93 @@ MPS2P_API int mps2p_solver_get_stage(const mps2p_solver *solver, size_t index,
                                      uint64_t *calls);
 MPS2P_API int mps2p_solver_reset_stage_timings(mps2p_solver *solver);
 
+/* ---------------------------------------------------------------------------
+ * 7. Coupling: wall bodies, forces on them, host-driven walls and inputs
+ *
+ * A body is a named group of wall and dummy particles. Every solid belongs
+ * to one: those added by mps2p_scene_add_wall_box, _add_tank and
+ * _add_particles to body 0, "walls", which always exists. Functions taking
+ * a body name add to the body of that name, creating it (ids 1, 2, ... in
+ * order of creation) when there is none. The calling sequence of a coupling
+ * adapter, units and discrete forms: docs/embedding.md.
+ * ------------------------------------------------------------------------- */
+
+/* Fills a box with solid particles of body name, as mps2p_scene_add_wall_box
+ * (walls where they face a free lattice site, dummies behind). */
+MPS2P_API int mps2p_scene_add_body_box(mps2p_scene *scene, const char *name,
+                                       double x0, double y0, double x1, double y1,
+                                       int *body_id);
+/* Adds count particles of body name at positions (2*count); kinds are
+ * MPS2P_KIND_WALL or MPS2P_KIND_DUMMY. */
+MPS2P_API int mps2p_scene_add_body_particles(mps2p_scene *scene, const char *name,
+                                             size_t count, const double *positions,
+                                             const int *kinds, int *body_id);
+/* Moves the solid particles already in the scene whose position lies in
+ * [x0,x1] x [y0,y1] into body name (e.g. one wall of a tank).
+ * MPS2P_ERR_INVALID when the box holds none. */
+MPS2P_API int mps2p_scene_assign_body(mps2p_scene *scene, const char *name,
+                                      double x0, double y0, double x1, double y1,
+                                      int *body_id);
+/* Bodies in the scene, "walls" included (so at least 1). */
+MPS2P_API int mps2p_scene_body_count(const mps2p_scene *scene, int *count);
+
+MPS2P_API int mps2p_solver_body_count(const mps2p_solver *solver, int *count);
+/* *name stays valid while the solver lives. Any output pointer may be NULL. */
+MPS2P_API int mps2p_solver_get_body(const mps2p_solver *solver, int body_id,
+                                    const char **name, size_t *particles);
+/* body id per particle; -1 for fluid particles. */
+MPS2P_API int mps2p_solver_get_body_ids(const mps2p_solver *solver, int *out, size_t length);
+
+/* Force (N per metre of depth) and moment (N m per metre, counter-clockwise
+ * positive, about the point about; NULL = the origin) that the fluid's
+ * pressure exerts on the body, in the current state:
+ *   F = sum_i p_i l0 n_i over the body's wall particles i,
+ *   n_i = the unit normal of the wall at i, pointing from the fluid into
+ *         the wall: perpendicular to the main axis of sum_j w_ij r_ij r_ij^T
+ *         / |r_ij|^2 over the wall particles j around i (any body, within
+ *         re_density), oriented by the fluid side s_i = sum_j w_ij (r_i - r_j)
+ *         / |r_ij| over fluid neighbours j; where the walls around i form no
+ *         clear line (a corner: smaller eigenvalue >= 1/4 of the larger),
+ *         n_i = s_i / |s_i|. Wall particles with p_i = 0 or no fluid
+ *         neighbour add nothing.
+ *   M = sum_i (r_i - about) x p_i l0 n_i.
+ * fluid_id >= 0 gives that fluid's part: each p_i l0 n_i times the share of
+ * that fluid in sum_j w_ij (the parts add up to fluid_id = -1, all fluids).
+ * Pressure only: viscous shear on walls is not included. moment may be NULL. */
+MPS2P_API int mps2p_solver_body_force(const mps2p_solver *solver, int body_id, int fluid_id,
+                                      double force[2], double *moment, const double about[2]);
+
+/* Sets the body's rigid motion from the next step on, until changed: its
+ * particles move with u = velocity + angular_velocity x (r - about) (rad/s,
+ * counter-clockwise positive), positions advanced by the exact rotation and
+ * translation each step, velocities set to u so that the fluid's viscosity
+ * (no-slip), collisions and pressure see the moving wall. about moves with
+ * velocity; it may be NULL when angular_velocity is 0. Zero motion puts the
+ * body at rest (velocities 0). Bodies at rest cost nothing: the stage
+ * body_motion is in the step only while a body moves. */
+MPS2P_API int mps2p_solver_set_body_motion(mps2p_solver *solver, int body_id,
+                                           const double velocity[2], double angular_velocity,
+                                           const double about[2]);
+/* Positions (2 per particle of the body, in particle order; length =
+ * 2 * its particles) that the body's particles reach at the end of the next
+ * step; during that step their velocity is (target - r) / dt. Used by one
+ * step (then the body follows its rigid motion); NULL clears them. */
+MPS2P_API int mps2p_solver_set_body_positions(mps2p_solver *solver, int body_id,
+                                              const double *positions, size_t length);
+
+/* Gravity from the next step on (m/s^2). The time step bound dt_max stays
+ * the one derived at creation. With effect.gravity "on", zero gravity is
+ * refused (MPS2P_ERR_INVALID) and the old gravity kept. */
+MPS2P_API int mps2p_solver_set_gravity(mps2p_solver *solver, double gx, double gy);
+MPS2P_API int mps2p_solver_get_gravity(const mps2p_solver *solver, double gravity[2]);
+
+/* Per-particle accelerations (m/s^2, 2 per particle, length = 2 * particle
+ * count; entries of non-fluid particles are ignored) added to the fluid in
+ * every step, after gravity, until replaced or cleared with NULL. The stage
+ * external_forces is in the step only while they are set. */
+MPS2P_API int mps2p_solver_set_body_forces(mps2p_solver *solver, const double *accelerations,
+                                           size_t length);
+
 #ifdef __cplusplus
 }
 #endif

@@ -85,6 +85,9 @@ struct mps2p_scene {
     double *velocity;  /* 2 * count */
     int *kind;         /* MPS2P_KIND_* or SOLID_FROM_BOX */
     int *fluid_id;     /* -1 for solids */
+    int *body_id;      /* -1 for fluid, 0 = "walls", else a body of body_names */
+    char (*body_names)[FLUID_NAME_SIZE]; /* body k's name at k - 1 (bodies.c) */
+    int body_count, body_capacity;       /* bodies besides "walls" */
     int has_domain;
     double domain[4];  /* xmin, ymin, xmax, ymax */
     char error[ERROR_MESSAGE_SIZE];
@@ -164,8 +167,10 @@ int linear_solver_solve(linear_solver *solver, const sparse_matrix *a,
 enum stage_id {
     STAGE_NEIGHBOURS,
     STAGE_NUMBER_DENSITY_START,
+    STAGE_BODY_MOTION,
     STAGE_VISCOSITY,
     STAGE_GRAVITY,
+    STAGE_EXTERNAL_FORCES,
     STAGE_ADVECTION,
     STAGE_COLLISION,
     STAGE_NUMBER_DENSITY,
@@ -233,6 +238,8 @@ struct mps2p_solver {
     int stage_active[STAGE_COUNT];
     double stage_seconds[STAGE_COUNT];
     uint64_t stage_calls[STAGE_COUNT];
+
+    struct coupling *coupling; /* bodies and host inputs (bodies.c) */
 };
 
 /* Decides every effect from the scene and the requests (effects.c). */
@@ -252,6 +259,19 @@ int solver_allocate(mps2p_solver *s, size_t n, int fluid_count);
 /* Starts the neighbour list (empty) and the pressure solver, once l0, params
  * and domain are set. */
 int solver_start(mps2p_solver *s);
+
+/* ---- wall bodies and host inputs (bodies.c, body_motion.c, external_forces.c) ---- */
+
+/* Creates the solver's bodies: all solids in body 0 "walls", or the scene's
+ * bodies when scene is non-NULL. Called once the kinds are known. */
+int coupling_create(mps2p_solver *s, const mps2p_scene *scene);
+void coupling_free(struct coupling *c);
+int body_motion_wanted(const mps2p_solver *s);
+int external_forces_wanted(const mps2p_solver *s);
+void body_motion_apply(mps2p_solver *s, double dt);
+void external_forces_apply(mps2p_solver *s, double dt);
+/* After a step that succeeded: rotation centres move on, targets dropped. */
+int body_motion_done(mps2p_solver *s, double dt);
 
 /* ---- output files ---- */
 

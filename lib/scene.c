@@ -40,6 +40,8 @@ void mps2p_scene_destroy(mps2p_scene *scene)
     free(scene->velocity);
     free(scene->kind);
     free(scene->fluid_id);
+    free(scene->body_id);
+    free(scene->body_names);
     free(scene);
 }
 
@@ -137,7 +139,10 @@ static int reserve(mps2p_scene *scene, size_t extra)
     int *fluid_id = realloc(scene->fluid_id, capacity * sizeof *fluid_id);
     if (fluid_id)
         scene->fluid_id = fluid_id;
-    if (!position || !velocity || !kind || !fluid_id)
+    int *body_id = realloc(scene->body_id, capacity * sizeof *body_id);
+    if (body_id)
+        scene->body_id = body_id;
+    if (!position || !velocity || !kind || !fluid_id || !body_id)
         return fail(scene->error, MPS2P_ERR_NOMEM,
                     "out of memory growing the scene to %zu particles", needed);
     scene->capacity = capacity;
@@ -154,6 +159,7 @@ static void append(mps2p_scene *scene, double x, double y, double u, double v,
     scene->velocity[2 * i + 1] = v;
     scene->kind[i] = kind;
     scene->fluid_id[i] = fluid_id;
+    scene->body_id[i] = kind == MPS2P_KIND_FLUID ? -1 : 0; /* solids join "walls" */
 }
 
 static int check_box(mps2p_scene *scene, double x0, double y0, double x1, double y1,

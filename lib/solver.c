@@ -45,6 +45,7 @@ void mps2p_solver_destroy(mps2p_solver *s)
     free(s->solution);
     free(s->unknown_of);
     linear_solver_destroy(s->linear);
+    coupling_free(s->coupling);
     free(s);
 }
 
@@ -209,6 +210,11 @@ int solver_allocate(mps2p_solver *s, size_t n, int fluid_count)
 
 int solver_start(mps2p_solver *s)
 {
+    if (!s->coupling) { /* a checkpoint's solver: every solid in body 0 */
+        int status = coupling_create(s, NULL);
+        if (status != MPS2P_OK)
+            return status;
+    }
     double cutoff = (params_max_radius(&s->params) + s->params.neighbour_skin) * s->l0;
     if (neighbours_init(&s->neighbours, s->count, cutoff, s->params.neighbour_skin * s->l0,
                         s->domain) != MPS2P_OK)
@@ -257,7 +263,9 @@ static int build(mps2p_solver *s, const mps2p_scene *scene)
                     "a finite number", s->domain[0], s->domain[2], s->domain[1], s->domain[3]);
     derive_bounds(s);
 
-    status = solver_start(s);
+    status = coupling_create(s, scene);
+    if (status == MPS2P_OK)
+        status = solver_start(s);
     if (status != MPS2P_OK)
         return status;
     if (neighbours_update(&s->neighbours, s->state.position) != MPS2P_OK)
@@ -337,7 +345,7 @@ static int step_with(mps2p_solver *s, double dt)
     s->time += dt;
     s->last_dt = dt;
     s->steps++;
-    return MPS2P_OK;
+    return s->stage_active[STAGE_BODY_MOTION] ? body_motion_done(s, dt) : MPS2P_OK;
 }
 
 int mps2p_solver_step(mps2p_solver *s)

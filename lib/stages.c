@@ -23,6 +23,18 @@ static int run_number_density_start(mps2p_solver *s, double dt)
     return MPS2P_OK;
 }
 
+static int run_body_motion(mps2p_solver *s, double dt)
+{
+    body_motion_apply(s, dt);
+    return MPS2P_OK;
+}
+
+static int run_external_forces(mps2p_solver *s, double dt)
+{
+    external_forces_apply(s, dt);
+    return MPS2P_OK;
+}
+
 static int run_viscosity(mps2p_solver *s, double dt)
 {
     viscosity_apply(s, dt);
@@ -99,8 +111,11 @@ static const stage_entry stages[STAGE_COUNT] = {
     [STAGE_NEIGHBOURS] = {"neighbours", -1, NULL, run_neighbours},
     [STAGE_NUMBER_DENSITY_START] = {"number_density_start", -1, uses_start_density,
                                     run_number_density_start},
+    [STAGE_BODY_MOTION] = {"body_motion", -1, body_motion_wanted, run_body_motion},
     [STAGE_VISCOSITY] = {"viscosity", EFFECT_VISCOSITY, NULL, run_viscosity},
     [STAGE_GRAVITY] = {"gravity", EFFECT_GRAVITY, NULL, run_gravity},
+    [STAGE_EXTERNAL_FORCES] = {"external_forces", -1, external_forces_wanted,
+                               run_external_forces},
     [STAGE_ADVECTION] = {"advection", -1, NULL, run_advection},
     [STAGE_COLLISION] = {"collision", EFFECT_COLLISION, NULL, run_collision},
     [STAGE_NUMBER_DENSITY] = {"number_density", -1, NULL, run_number_density},
@@ -112,10 +127,12 @@ static const stage_entry stages[STAGE_COUNT] = {
 };
 
 /* One MPS step (METHOD.md section 1, fig. 1 of the paper), in order. The
- * neighbour list is brought up to date after each stage that moves particles. */
+ * neighbour list is brought up to date after each stage that moves particles.
+ * Host-moved walls move first, so that viscosity sees their velocity. */
 static const int sequence[] = {
-    STAGE_NEIGHBOURS,     STAGE_NUMBER_DENSITY_START, STAGE_VISCOSITY,
-    STAGE_GRAVITY,        STAGE_ADVECTION,            STAGE_NEIGHBOURS,
+    STAGE_NEIGHBOURS,     STAGE_NUMBER_DENSITY_START, STAGE_BODY_MOTION,
+    STAGE_VISCOSITY,      STAGE_GRAVITY,              STAGE_EXTERNAL_FORCES,
+    STAGE_ADVECTION,      STAGE_NEIGHBOURS,
     STAGE_COLLISION,      STAGE_NEIGHBOURS,           STAGE_NUMBER_DENSITY,
     STAGE_FREE_SURFACE,   STAGE_PRESSURE_ASSEMBLY,    STAGE_PRESSURE_SOLVE,
     STAGE_CORRECTION,     STAGE_DIVERGENCE_CHECK,
