@@ -458,6 +458,12 @@ MPS2P_API int mps2p_solver_get_gravity(const mps2p_solver *solver, double gravit
 MPS2P_API int mps2p_solver_set_body_forces(mps2p_solver *solver, const double *accelerations,
                                            size_t length);
 
+/* One coupling window: mps2p_solver_advance_to(solver, end_time) (equal
+ * steps, landing on end_time exactly), with the number of steps that
+ * succeeded written to *steps_taken (may be NULL), also when a step fails. */
+MPS2P_API int mps2p_solver_advance_window(mps2p_solver *solver, double end_time,
+                                          uint64_t *steps_taken);
+
 #ifdef __cplusplus
 }
 #endif

@@ -276,8 +276,32 @@ static void test_gravity_and_forces(void)
     mps2p_solver_destroy(solver);
 }
 
+/* A window lands on its end exactly and reports its steps. */
+static void test_window(void)
+{
+    size_t n;
+    mps2p_solver *solver = free_block(&n);
+    uint64_t taken = 99, steps;
+    double time;
+    CHECK(mps2p_solver_advance_window(NULL, 1.0, &taken) == MPS2P_ERR_NULL, "NULL solver");
+    CHECK(mps2p_solver_advance_window(solver, NAN, &taken) == MPS2P_ERR_INVALID && taken == 0,
+          "NaN end time");
+    MUST(mps2p_solver_advance_window(solver, 0.0105, &taken));
+    MUST(mps2p_solver_get_time(solver, &time));
+    MUST(mps2p_solver_get_step_count(solver, &steps));
+    CHECK(time == 0.0105 && taken == 11 && steps == 11,
+          "window to 0.0105 s at dt 1 ms: time %.17g, %llu steps (%llu counted)", time,
+          (unsigned long long)taken, (unsigned long long)steps);
+    MUST(mps2p_solver_advance_window(solver, 0.02, &taken));
+    MUST(mps2p_solver_get_time(solver, &time));
+    CHECK(time == 0.02 && taken == 10, "second window: time %.17g, %llu steps", time,
+          (unsigned long long)taken);
+    mps2p_solver_destroy(solver);
+}
+
 int main(void)
 {
+    test_window();
     test_at_rest_is_bitwise_unchanged();
     test_piston();
     test_gravity_and_forces();

@@ -1,0 +1,16 @@
+/* Coupling windows: advance to the window's end exactly and say how many
+ * steps it took, so that a host can average or check per window. */
+#include "internal.h"
+
+int mps2p_solver_advance_window(mps2p_solver *s, double end_time, uint64_t *steps_taken)
+{
+    if (!s)
+        return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_advance_window: solver is NULL");
+    if (steps_taken)
+        *steps_taken = 0;
+    const uint64_t before = s->steps;
+    int status = mps2p_solver_advance_to(s, end_time, NULL, NULL);
+    if (steps_taken)
+        *steps_taken = s->steps - before; /* steps that succeeded, also on failure */
+    return status;
+}
