@@ -104,6 +104,39 @@ class Scene:
             ffi.from_buffer("int[]", kinds),
             ffi.from_buffer("int[]", ids) if ids is not None else ffi.NULL))
 
+    # -- wall bodies (for forces on them and host-driven motion) ------------
+    def add_body_box(self, name, x0, y0, x1, y1):
+        """Fills a box with solid particles of body `name` (created if new); its id."""
+        body = ffi.new("int *")
+        check(lib.mps2p_scene_add_body_box(self.handle, encode(name, "body name"),
+                                           *_box(x0, y0, x1, y1), body))
+        return body[0]
+
+    def add_body_particles(self, name, positions, kinds):
+        """Adds wall/dummy particles (positions (n, 2), kinds (n,)) to body `name`."""
+        positions = np.ascontiguousarray(positions, dtype=np.float64)
+        if positions.ndim != 2 or positions.shape[1] != 2:
+            raise ValueError("positions must have shape (n, 2), got %s" % (positions.shape,))
+        kinds = _int_array(kinds, positions.shape[0], "kinds")
+        body = ffi.new("int *")
+        check(lib.mps2p_scene_add_body_particles(
+            self.handle, encode(name, "body name"), positions.shape[0],
+            ffi.from_buffer("double[]", positions), ffi.from_buffer("int[]", kinds), body))
+        return body[0]
+
+    def assign_body(self, name, x0, y0, x1, y1):
+        """Moves the solids already in the box into body `name` (e.g. one tank wall)."""
+        body = ffi.new("int *")
+        check(lib.mps2p_scene_assign_body(self.handle, encode(name, "body name"),
+                                          *_box(x0, y0, x1, y1), body))
+        return body[0]
+
+    @property
+    def body_count(self):
+        count = ffi.new("int *")
+        check(lib.mps2p_scene_body_count(self.handle, count))
+        return count[0]
+
     @property
     def particle_count(self):
         count = ffi.new("size_t *")

@@ -170,6 +170,78 @@ class Solver:
     def reset_stage_timings(self):
         check(lib.mps2p_solver_reset_stage_timings(self.handle))
 
+    # -- coupling: bodies, forces, host inputs, windows ----------------------
+    def bodies(self):
+        """[(name, particles)] by body id (0 is "walls")."""
+        count = ffi.new("int *")
+        check(lib.mps2p_solver_body_count(self.handle, count))
+        name, particles = ffi.new("char **"), ffi.new("size_t *")
+        result = []
+        for body in range(count[0]):
+            check(lib.mps2p_solver_get_body(self.handle, body, name, particles))
+            result.append((ffi.string(name[0]).decode(), particles[0]))
+        return result
+
+    def body_ids(self):
+        """(n,) int32: the body of each particle, -1 for fluid; a copy."""
+        return self._field(lib.mps2p_solver_get_body_ids, np.intc, 1)
+
+    def body_force(self, body_id, fluid_id=-1, about=(0.0, 0.0)):
+        """(force (2,) N/m, moment N m/m about `about`) that the fluid's pressure
+        exerts on the body; fluid_id >= 0 gives that fluid's part."""
+        force, moment = ffi.new("double[2]"), ffi.new("double *")
+        point = ffi.new("double[2]", [real(about[0], "about"), real(about[1], "about")])
+        check(lib.mps2p_solver_body_force(self.handle, int(body_id), int(fluid_id), force,
+                                          moment, point))
+        return np.array([force[0], force[1]]), moment[0]
+
+    def set_body_motion(self, body_id, velocity=(0.0, 0.0), angular_velocity=0.0,
+                        about=(0.0, 0.0)):
+        """Rigid motion of the body from the next step on (m/s, rad/s about `about`)."""
+        v = ffi.new("double[2]", [real(velocity[0], "velocity"), real(velocity[1], "velocity")])
+        point = ffi.new("double[2]", [real(about[0], "about"), real(about[1], "about")])
+        check(lib.mps2p_solver_set_body_motion(self.handle, int(body_id), v,
+                                               real(angular_velocity, "angular velocity"),
+                                               point))
+
+    def set_body_positions(self, body_id, positions):
+        """Positions (m, 2) the body's particles reach at the end of the next step;
+        None clears them."""
+        if positions is None:
+            check(lib.mps2p_solver_set_body_positions(self.handle, int(body_id), ffi.NULL, 0))
+            return
+        positions = np.ascontiguousarray(positions, dtype=np.float64)
+        check(lib.mps2p_solver_set_body_positions(self.handle, int(body_id),
+                                                  ffi.from_buffer("double[]", positions),
+                                                  positions.size))
+
+    @property
+    def gravity(self):
+        g = ffi.new("double[2]")
+        check(lib.mps2p_solver_get_gravity(self.handle, g))
+        return (g[0], g[1])
+
+    @gravity.setter
+    def gravity(self, value):
+        check(lib.mps2p_solver_set_gravity(self.handle, real(value[0], "gravity"),
+                                           real(value[1], "gravity")))
+
+    def set_body_forces(self, accelerations):
+        """Per-particle accelerations (n, 2) added to the fluid every step; None clears."""
+        if accelerations is None:
+            check(lib.mps2p_solver_set_body_forces(self.handle, ffi.NULL, 0))
+            return
+        accelerations = np.ascontiguousarray(accelerations, dtype=np.float64)
+        check(lib.mps2p_solver_set_body_forces(self.handle,
+                                               ffi.from_buffer("double[]", accelerations),
+                                               accelerations.size))
+
+    def advance_window(self, end_time):
+        """One coupling window to end_time exactly; returns the steps it took."""
+        steps = ffi.new("uint64_t *")
+        check(lib.mps2p_solver_advance_window(self.handle, real(end_time, "end time"), steps))
+        return int(steps[0])
+
     # -- probes and checkpoints -------------------------------------------
     def probe(self, points):
         """Pressure and velocity at arbitrary points, MPS-weighted from the
