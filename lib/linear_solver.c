@@ -38,7 +38,7 @@ int linear_solver_create(int kind, linear_solver **out)
         }
         ls->common.print = 0;            /* never print from a library */
         ls->common.error_handler = NULL; /* errors come back in common.status */
-        /* simplicial or supernodal: chosen per solve, see factorize */
+        /* simplicial or supernodal: chosen per solve in solve_cholmod */
         /* AMD only, the ordering CHOLMOD's default picks for these matrices.
          * The default also tries METIS when AMD runs out of memory (or fills
          * in badly), silently: the step would succeed with another ordering
