@@ -95,6 +95,18 @@ def test_particles_from_an_npz_file(tmp_path):
     from_file = scenefile.load(write(tmp_path, text)).build()
     from_box = scenefile.load(write(tmp_path, GOOD, "box.toml")).build()
     assert from_file.particle_count == from_box.particle_count
+    import h5py
+    with h5py.File(tmp_path / "column.h5", "w") as f:
+        with np.load(tmp_path / "column.npz") as arrays:
+            for key in arrays.files:
+                f[key] = arrays[key]
+    from_h5 = scenefile.load(write(tmp_path, text.replace("column.npz", "column.h5"),
+                                   "h5.toml")).build()
+    assert from_h5.particle_count == from_box.particle_count
+    (tmp_path / "broken.h5").write_bytes(b"not an HDF5 file")
+    with pytest.raises(mps2p.SceneFileError, match="cannot read"):
+        scenefile.load(write(tmp_path, text.replace("column.npz", "broken.h5"),
+                             "broken.toml")).build()
     np.savez(tmp_path / "bad.npz", positions=np.zeros((2, 2)), colours=np.zeros(2))
     with pytest.raises(mps2p.SceneFileError, match="unknown arrays"):
         scenefile.load(write(tmp_path, text.replace("column.npz", "bad.npz"))).build()
