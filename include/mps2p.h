@@ -316,7 +316,9 @@ MPS2P_API const char *mps2p_results_last_error(const mps2p_results *results);
 
 /* Writes everything the next step depends on (state, particle properties,
  * parameters, derived constants, time, step count, last dt, the diverged
- * flag, the neighbour list's reference positions) to path, atomically: it is
+ * flag, the neighbour list's reference positions; the wall bodies, their
+ * motions and targets, gravity and the accelerations of section 7) to path,
+ * atomically: it is
  * written to "<path>.tmp", flushed to disk and renamed over path. */
 MPS2P_API int mps2p_solver_save_checkpoint(const mps2p_solver *solver, const char *path);
 

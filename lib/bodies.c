@@ -165,21 +165,21 @@ void coupling_free(struct coupling *c)
     free(c);
 }
 
-int coupling_create(mps2p_solver *s, const mps2p_scene *scene)
+int coupling_build(mps2p_solver *s, int count, char (*names)[FLUID_NAME_SIZE],
+                   const int *body_of)
 {
     struct coupling *c = calloc(1, sizeof *c);
-    int count = scene ? scene->body_count + 1 : 1;
     if (c) {
         c->body_count = count;
         c->bodies = calloc((size_t)count, sizeof *c->bodies);
-        c->body_of = malloc(s->count * sizeof *c->body_of);
+        c->body_of = malloc((s->count ? s->count : 1) * sizeof *c->body_of);
     }
     if (!c || !c->bodies || !c->body_of) {
         coupling_free(c);
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory for %d bodies", count);
     }
     for (size_t i = 0; i < s->count; i++) {
-        int id = s->kind[i] == MPS2P_KIND_FLUID ? -1 : scene ? scene->body_id[i] : 0;
+        int id = s->kind[i] == MPS2P_KIND_FLUID ? -1 : body_of ? body_of[i] : 0;
         c->body_of[i] = id;
         if (id >= 0)
             c->bodies[id].particles++;
@@ -187,7 +187,7 @@ int coupling_create(mps2p_solver *s, const mps2p_scene *scene)
     int status = MPS2P_OK;
     for (int b = 0; b < count; b++) {
         body *bd = &c->bodies[b];
-        strcpy(bd->name, b == 0 ? WALLS_NAME : scene->body_names[b - 1]);
+        strcpy(bd->name, b == 0 ? WALLS_NAME : names[b - 1]);
         bd->member = malloc((bd->particles ? bd->particles : 1) * sizeof *bd->member);
         if (!bd->member)
             status = MPS2P_ERR_NOMEM;
@@ -205,6 +205,13 @@ int coupling_create(mps2p_solver *s, const mps2p_scene *scene)
     coupling_free(s->coupling);
     s->coupling = c;
     return MPS2P_OK;
+}
+
+int coupling_create(mps2p_solver *s, const mps2p_scene *scene)
+{
+    if (!scene)
+        return coupling_build(s, 1, NULL, NULL);
+    return coupling_build(s, scene->body_count + 1, scene->body_names, scene->body_id);
 }
 
 static int check_body(const mps2p_solver *s, int body_id, const char *function)

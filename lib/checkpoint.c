@@ -3,6 +3,7 @@
  * Derived values (n0, lambda, dt_max, pressure_limit, domain) are stored,
  * not recomputed: dt_max and pressure_limit come from the initial state,
  * which a checkpoint no longer has. Layout in docs/results-files.md. */
+#include "coupling.h"
 #include "hdf5_io.h"
 #include "files.h"
 
@@ -13,7 +14,10 @@
 #include <string.h>
 
 #define CHECKPOINT_FORMAT "libmps2p checkpoint"
-#define CHECKPOINT_FORMAT_VERSION 1
+/* 2 added the wall bodies and the host's inputs (group "bodies", body_id and
+ * acceleration in "particles"); version 1 files load with every solid in
+ * body 0 and no inputs, as they were written. */
+#define CHECKPOINT_FORMAT_VERSION 2
 /* as in scene.c: the pressure matrix uses int indices */
 #define MAX_PARTICLES ((size_t)INT_MAX / 2)
 
@@ -120,6 +124,82 @@ static int write_neighbours(h5_context *ctx, hid_t file, const mps2p_solver *s)
     return status;
 }
 
+/* The bodies and the host's inputs: names and motions per body, body ids
+ * and targets (when set) per particle, in group "bodies"; the fluid's
+ * accelerations (when set) as the root dataset "acceleration". */
+static int write_bodies(h5_context *ctx, hid_t file, const mps2p_solver *s)
+{
+    const struct coupling *c = s->coupling;
+    const size_t bodies = (size_t)c->body_count, n = s->count;
+    const char **names = malloc(bodies * sizeof *names);
+    double *motion = malloc(5 * bodies * sizeof *motion);
+    int *has_target = malloc(bodies * sizeof *has_target);
+    double *target = NULL;
+    int status = -1, targets = 0;
+    hid_t group = -1;
+    if (!names || !motion || !has_target) {
+        h5_note_text(ctx, "out of memory");
+        goto done;
+    }
+    for (size_t b = 0; b < bodies; b++) {
+        const body *bd = &c->bodies[b];
+        names[b] = bd->name;
+        motion[2 * b] = bd->velocity[0];
+        motion[2 * b + 1] = bd->velocity[1];
+        motion[2 * bodies + b] = bd->angular_velocity;
+        motion[3 * bodies + 2 * b] = bd->about[0];
+        motion[3 * bodies + 2 * b + 1] = bd->about[1];
+        has_target[b] = bd->target != NULL;
+        targets |= has_target[b];
+    }
+    if (targets && !(target = calloc(2 * n, sizeof *target))) {
+        h5_note_text(ctx, "out of memory");
+        goto done;
+    }
+    for (size_t b = 0; targets && b < bodies; b++)
+        for (size_t m = 0; has_target[b] && m < c->bodies[b].particles; m++) {
+            size_t i = c->bodies[b].member[m];
+            target[2 * i] = c->bodies[b].target[2 * m];
+            target[2 * i + 1] = c->bodies[b].target[2 * m + 1];
+        }
+    group = H5Gcreate2(file, "bodies", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (group < 0) {
+        h5_note(ctx);
+        goto done;
+    }
+    hsize_t per_body[2] = {bodies, 2}, per_particle[2] = {n, 2};
+    status = h5_write_string_array(ctx, group, "name", bodies, names);
+    if (status == 0)
+        status = h5_write_dataset(ctx, group, "velocity", H5T_NATIVE_DOUBLE, 2, per_body,
+                                  motion);
+    if (status == 0)
+        status = h5_write_dataset(ctx, group, "angular_velocity", H5T_NATIVE_DOUBLE, 1,
+                                  per_body, motion + 2 * bodies);
+    if (status == 0)
+        status = h5_write_dataset(ctx, group, "about", H5T_NATIVE_DOUBLE, 2, per_body,
+                                  motion + 3 * bodies);
+    if (status == 0)
+        status = h5_write_dataset(ctx, group, "has_target", H5T_NATIVE_INT, 1, per_body,
+                                  has_target);
+    if (status == 0 && targets)
+        status = h5_write_dataset(ctx, group, "target", H5T_NATIVE_DOUBLE, 2, per_particle,
+                                  target);
+    if (status == 0)
+        status = h5_write_dataset(ctx, group, "body_id", H5T_NATIVE_INT, 1, per_particle,
+                                  c->body_of);
+    if (status == 0 && c->acceleration)
+        status = h5_write_dataset(ctx, file, "acceleration", H5T_NATIVE_DOUBLE, 2,
+                                  per_particle, c->acceleration);
+done:
+    if (group >= 0)
+        H5Gclose(group);
+    free(names);
+    free(motion);
+    free(has_target);
+    free(target);
+    return status;
+}
+
 int mps2p_solver_save_checkpoint(const mps2p_solver *s, const char *path)
 {
     if (!s)
@@ -144,7 +224,8 @@ int mps2p_solver_save_checkpoint(const mps2p_solver *s, const char *path)
     } else {
         int written = write_root(&ctx, file, s) == 0 && h5_write_parameters(&ctx, file, s) == 0 &&
                       h5_write_fluids(&ctx, file, s) == 0 &&
-                      write_particles(&ctx, file, s) == 0 && write_neighbours(&ctx, file, s) == 0;
+                      write_particles(&ctx, file, s) == 0 && write_neighbours(&ctx, file, s) == 0 &&
+                      write_bodies(&ctx, file, s) == 0;
         if (!written)
             status = h5_fail(&ctx, NULL, "cannot write \"%s\"", temporary);
         if (H5Fclose(file) < 0 && status == MPS2P_OK) {
@@ -165,7 +246,7 @@ int mps2p_solver_save_checkpoint(const mps2p_solver *s, const char *path)
 
 /* ---- loading ---- */
 
-static int read_header(h5_context *ctx, hid_t file)
+static int read_header(h5_context *ctx, hid_t file, int *file_version)
 {
     char format[64];
     int version = 0;
@@ -189,6 +270,7 @@ static int read_header(h5_context *ctx, hid_t file)
                      mps2p_version_string(), CHECKPOINT_FORMAT_VERSION);
         return -1;
     }
+    *file_version = version;
     return 0;
 }
 
@@ -314,6 +396,139 @@ static int read_neighbours(h5_context *ctx, hid_t file, const mps2p_solver *s,
     return status;
 }
 
+/* Reads group "bodies" and the accelerations (format 2) into s->coupling,
+ * checking every id, name and value the stages rely on. */
+static int read_bodies(h5_context *ctx, hid_t file, mps2p_solver *s)
+{
+    const size_t n = s->count, width = FLUID_NAME_SIZE + 1;
+    hid_t group = H5Gopen2(file, "bodies", H5P_DEFAULT);
+    if (group < 0) {
+        h5_note(ctx);
+        return -1;
+    }
+    hsize_t length = 0, per_particle[2] = {n, 2};
+    int status = h5_dataset_length(ctx, group, "angular_velocity", &length);
+    if (status == 0 && (length < 1 || length > (1u << 20) + 1)) {
+        h5_note_text(ctx, "%llu bodies (1 to %d allowed)", (unsigned long long)length,
+                     (1 << 20) + 1);
+        status = -1;
+    }
+    const size_t bodies = status == 0 ? (size_t)length : 1;
+    hsize_t per_body[2] = {bodies, 2};
+    char *names = malloc(bodies * width);
+    char(*rest)[FLUID_NAME_SIZE] = malloc(bodies * sizeof *rest);
+    double *motion = malloc(5 * bodies * sizeof *motion), *target = NULL;
+    int *has_target = malloc(bodies * sizeof *has_target);
+    int *body_id = malloc(n * sizeof *body_id), targets = 0;
+    if (status == 0 && (!names || !rest || !motion || !has_target || !body_id)) {
+        h5_note_text(ctx, "out of memory");
+        status = -1;
+    }
+    if (status == 0)
+        status = h5_read_string_array(ctx, group, "name", bodies, names, width);
+    if (status == 0)
+        status = h5_read_dataset(ctx, group, "velocity", H5T_NATIVE_DOUBLE, 2, per_body, motion);
+    if (status == 0)
+        status = h5_read_dataset(ctx, group, "angular_velocity", H5T_NATIVE_DOUBLE, 1, per_body,
+                                 motion + 2 * bodies);
+    if (status == 0)
+        status = h5_read_dataset(ctx, group, "about", H5T_NATIVE_DOUBLE, 2, per_body,
+                                 motion + 3 * bodies);
+    if (status == 0)
+        status = h5_read_dataset(ctx, group, "has_target", H5T_NATIVE_INT, 1, per_body,
+                                 has_target);
+    if (status == 0)
+        status = h5_read_dataset(ctx, group, "body_id", H5T_NATIVE_INT, 1, per_particle, body_id);
+    for (size_t b = 0; status == 0 && b < bodies; b++) {
+        const char *name = names + b * width;
+        int ok = strlen(name) > 0 && strlen(name) < FLUID_NAME_SIZE &&
+                 (b > 0 || strcmp(name, "walls") == 0) &&
+                 (has_target[b] == 0 || has_target[b] == 1);
+        for (size_t k = 0; k < 5 && ok; k++)
+            ok = isfinite(motion[k < 2 ? 2 * b + k : k == 2 ? 2 * bodies + b
+                                                  : 3 * bodies + 2 * b + (k - 3)]);
+        if (!ok) {
+            h5_note_text(ctx, "body %zu (\"%s\") is inconsistent", b, name);
+            status = -1;
+        } else if (b > 0) {
+            strcpy(rest[b - 1], name);
+        }
+        targets |= status == 0 && has_target[b];
+    }
+    for (size_t i = 0; status == 0 && i < n; i++) {
+        int fluid = s->kind[i] == MPS2P_KIND_FLUID, id = body_id[i];
+        if (fluid ? id != -1 : id < 0 || (size_t)id >= bodies) {
+            h5_note_text(ctx, "particle %zu of kind %d has body id %d (%zu bodies)", i,
+                         s->kind[i], id, bodies);
+            status = -1;
+        }
+    }
+    if (status == 0 && targets) {
+        if (!(target = malloc(2 * n * sizeof *target))) {
+            h5_note_text(ctx, "out of memory");
+            status = -1;
+        } else {
+            status = h5_read_dataset(ctx, group, "target", H5T_NATIVE_DOUBLE, 2, per_particle,
+                                     target);
+        }
+    }
+    if (status == 0 && coupling_build(s, (int)bodies, rest, body_id) != MPS2P_OK) {
+        h5_note_text(ctx, "out of memory for %zu bodies", bodies);
+        status = -1;
+    }
+    for (size_t b = 0; status == 0 && b < bodies; b++) {
+        body *bd = &s->coupling->bodies[b];
+        bd->velocity[0] = motion[2 * b];
+        bd->velocity[1] = motion[2 * b + 1];
+        bd->angular_velocity = motion[2 * bodies + b];
+        bd->about[0] = motion[3 * bodies + 2 * b];
+        bd->about[1] = motion[3 * bodies + 2 * b + 1];
+        if (!has_target[b])
+            continue;
+        if (!(bd->target = malloc((bd->particles ? 2 * bd->particles : 1) * sizeof *bd->target))) {
+            h5_note_text(ctx, "out of memory");
+            status = -1;
+        }
+        for (size_t m = 0; status == 0 && m < bd->particles; m++) {
+            size_t i = bd->member[m];
+            bd->target[2 * m] = target[2 * i];
+            bd->target[2 * m + 1] = target[2 * i + 1];
+            if (!isfinite(bd->target[2 * m]) || !isfinite(bd->target[2 * m + 1])) {
+                h5_note_text(ctx, "target of particle %zu is not finite", i);
+                status = -1;
+            }
+        }
+    }
+    H5Gclose(group);
+    htri_t has_acceleration = status == 0 ? H5Lexists(file, "acceleration", H5P_DEFAULT) : 0;
+    if (has_acceleration < 0) {
+        h5_note(ctx);
+        status = -1;
+    } else if (has_acceleration > 0) {
+        double *a = malloc(2 * n * sizeof *a);
+        if (!a) {
+            h5_note_text(ctx, "out of memory");
+            status = -1;
+        } else {
+            s->coupling->acceleration = a;
+            status = h5_read_dataset(ctx, file, "acceleration", H5T_NATIVE_DOUBLE, 2,
+                                     per_particle, a);
+        }
+        for (size_t k = 0; status == 0 && k < 2 * n; k++)
+            if (!isfinite(a[k])) {
+                h5_note_text(ctx, "acceleration of particle %zu is not finite", k / 2);
+                status = -1;
+            }
+    }
+    free(names);
+    free(rest);
+    free(motion);
+    free(has_target);
+    free(body_id);
+    free(target);
+    return status;
+}
+
 /* Reads the open file into a new solver; MPS2P_ERR_IO (detail noted) or
  * MPS2P_ERR_NOMEM on failure, with *out left NULL. */
 static int load(h5_context *ctx, hid_t file, mps2p_solver **out)
@@ -322,10 +537,10 @@ static int load(h5_context *ctx, hid_t file, mps2p_solver **out)
     if (!s)
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory loading a checkpoint");
     size_t count = 0;
-    int fluids = 0, status = MPS2P_ERR_IO;
+    int fluids = 0, version = 0, status = MPS2P_ERR_IO;
     double *built_at = NULL;
     uint64_t builds = 0;
-    if (read_header(ctx, file) != 0 || read_root(ctx, file, s, &count, &fluids) != 0 ||
+    if (read_header(ctx, file, &version) != 0 || read_root(ctx, file, s, &count, &fluids) != 0 ||
         h5_read_parameters(ctx, file, &s->params) != 0)
         goto done;
     int file_fluids = 0;
@@ -345,7 +560,8 @@ static int load(h5_context *ctx, hid_t file, mps2p_solver **out)
     }
     status = MPS2P_ERR_IO;
     if (h5_read_fluids(ctx, file, fluids, s->fluids) != 0 || read_particles(ctx, file, s) != 0 ||
-        check_particles(ctx, s) != 0 || read_neighbours(ctx, file, s, built_at, &builds) != 0)
+        check_particles(ctx, s) != 0 || read_neighbours(ctx, file, s, built_at, &builds) != 0 ||
+        (version >= 2 && read_bodies(ctx, file, s) != 0))
         goto done;
     status = solver_start(s);
     if (status == MPS2P_OK && neighbours_restore(&s->neighbours, built_at,

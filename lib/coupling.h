@@ -22,6 +22,13 @@ struct coupling {
     double *acceleration;  /* 2n host accelerations of the fluid, or NULL */
 };
 
+/* Creates the solver's bodies from a body id per solid particle (body_of,
+ * read only for solids; NULL = all in body 0) and the names of bodies 1 to
+ * count - 1 (names[k - 1]; body 0 is "walls"). The ids must be in range:
+ * callers validate them (the scene by construction, a checkpoint on load). */
+int coupling_build(mps2p_solver *s, int count, char (*names)[FLUID_NAME_SIZE],
+                   const int *body_of);
+
 /* 1 when the body moves in the next step (a non-zero motion or targets). */
 int body_moves(const body *b);
 

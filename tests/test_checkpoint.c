@@ -1,5 +1,7 @@
 /* Checkpoint and restart: a restored solver continues bitwise as the saved
- * one, for both pressure solvers; damaged or foreign files are refused. */
+ * one, for both pressure solvers and with the host's inputs (a moving body,
+ * one step's targets, accelerations, changed gravity); version 1 files still
+ * load; damaged or foreign files are refused. */
 #define _POSIX_C_SOURCE 200809L
 #include <hdf5.h>
 #include <stdint.h>
@@ -93,6 +95,101 @@ static void restart_is_bitwise(const char *method, const char *path)
     mps2p_solver_destroy(restored);
 }
 
+/* A dam break against a paddle (body 1) turning about its foot, with
+ * accelerations on the fluid and gravity tilted: every input is saved. */
+static mps2p_solver *driven_dam_break(int *paddle)
+{
+    mps2p_scene *scene = dam_break_scene(0.02);
+    MUST(mps2p_scene_add_body_box(scene, "paddle", 0.22, 0.0, 0.26, 0.1, paddle));
+    mps2p_solver *solver;
+    MUST(mps2p_solver_create(scene, &solver));
+    mps2p_scene_destroy(scene);
+    size_t n;
+    MUST(mps2p_solver_particle_count(solver, &n));
+    double *a = malloc(2 * n * sizeof *a);
+    for (size_t i = 0; i < n; i++) {
+        a[2 * i] = 0.5 + 1e-3 * (double)(i % 7);
+        a[2 * i + 1] = -0.2;
+    }
+    MUST(mps2p_solver_set_body_forces(solver, a, 2 * n));
+    free(a);
+    MUST(mps2p_solver_set_gravity(solver, 0.3, -9.7));
+    const double still[2] = {0.0, 0.0}, foot[2] = {0.24, 0.0};
+    MUST(mps2p_solver_set_body_motion(solver, *paddle, still, 0.8, foot));
+    return solver;
+}
+
+/* One step's targets for the paddle: where it is, moved 1 mm to the right. */
+static void set_paddle_targets(mps2p_solver *solver, int paddle)
+{
+    size_t n, members;
+    MUST(mps2p_solver_particle_count(solver, &n));
+    MUST(mps2p_solver_get_body(solver, paddle, NULL, &members));
+    double *r = malloc(2 * n * sizeof *r), *target = malloc(2 * members * sizeof *target);
+    int *body = malloc(n * sizeof *body);
+    MUST(mps2p_solver_get_positions(solver, r, 2 * n));
+    MUST(mps2p_solver_get_body_ids(solver, body, n));
+    size_t m = 0;
+    for (size_t i = 0; i < n; i++)
+        if (body[i] == paddle) {
+            target[2 * m] = r[2 * i] + 0.001;
+            target[2 * m + 1] = r[2 * i + 1];
+            m++;
+        }
+    MUST(mps2p_solver_set_body_positions(solver, paddle, target, 2 * members));
+    free(r);
+    free(target);
+    free(body);
+}
+
+static void driven_restart_is_bitwise(const char *path)
+{
+    int paddle;
+    mps2p_solver *original = driven_dam_break(&paddle), *restored;
+    steps(original, BEFORE);
+    set_paddle_targets(original, paddle);
+    MUST(mps2p_solver_save_checkpoint(original, path));
+    steps(original, AFTER);
+    state expected = capture(original);
+    double f_expected[2], m_expected;
+    MUST(mps2p_solver_body_force(original, paddle, -1, f_expected, &m_expected, NULL));
+
+    MUST(mps2p_solver_load_checkpoint(path, &restored));
+    int bodies = 0;
+    const char *name = "";
+    size_t members = 0, original_members = 0;
+    double g[2];
+    MUST(mps2p_solver_body_count(restored, &bodies));
+    MUST(mps2p_solver_get_body(restored, bodies - 1, &name, &members));
+    MUST(mps2p_solver_get_body(original, paddle, NULL, &original_members));
+    MUST(mps2p_solver_get_gravity(restored, g));
+    CHECK(bodies == 2 && strcmp(name, "paddle") == 0 && members == original_members,
+          "restored bodies: %d, last \"%s\" with %zu particles", bodies, name, members);
+    CHECK(g[0] == 0.3 && g[1] == -9.7, "restored gravity (%g, %g)", g[0], g[1]);
+    steps(restored, AFTER);
+    state got = capture(restored);
+    double f_got[2], m_got;
+    MUST(mps2p_solver_body_force(restored, paddle, -1, f_got, &m_got, NULL));
+    CHECK(got.steps == expected.steps && !memcmp(&got.time, &expected.time, sizeof got.time),
+          "driven: steps or time differ");
+    CHECK(!memcmp(got.position, expected.position, 2 * got.n * sizeof(double)),
+          "driven: positions are not bitwise identical");
+    CHECK(!memcmp(got.velocity, expected.velocity, 2 * got.n * sizeof(double)),
+          "driven: velocities are not bitwise identical");
+    CHECK(!memcmp(got.pressure, expected.pressure, got.n * sizeof(double)),
+          "driven: pressures are not bitwise identical");
+    CHECK(!memcmp(f_got, f_expected, sizeof f_got) && !memcmp(&m_got, &m_expected, sizeof m_got),
+          "driven: paddle force (%.17g, %.17g) vs (%.17g, %.17g)", f_got[0], f_got[1],
+          f_expected[0], f_expected[1]);
+    printf("driven: %llu steps, t = %.6f s, paddle force (%.3f, %.3f) N/m, moment %.4f N m/m: "
+           "restart is bitwise\n", (unsigned long long)got.steps, got.time, f_got[0], f_got[1],
+           m_got);
+    release(&expected);
+    release(&got);
+    mps2p_solver_destroy(original);
+    mps2p_solver_destroy(restored);
+}
+
 static void expect_refused(const char *path, const char *fragment)
 {
     mps2p_solver *solver = (mps2p_solver *)&solver; /* must be reset to NULL */
@@ -163,6 +260,7 @@ int main(void)
     restart_is_bitwise("cholmod", path);
     CHECK(access(temporary, F_OK) != 0, "the temporary %s was left behind", temporary);
     restart_is_bitwise("cg", path);
+    driven_restart_is_bitwise(path);
 
     /* refusals */
     snprintf(missing, sizeof missing, "%s/no-such-file.chk", dir);
@@ -185,8 +283,27 @@ int main(void)
 
     snprintf(other, sizeof other, "%s/newer.chk", dir);
     MUST(mps2p_solver_save_checkpoint(solver, other));
+    set_format_version(other, 3);
+    expect_refused(other, "format version 3 is newer");
+
+    /* a version 1 file (no bodies, no inputs) loads with every solid in body 0 */
+    snprintf(other, sizeof other, "%s/version1.chk", dir);
+    MUST(mps2p_solver_save_checkpoint(solver, other));
+    hid_t file = H5Fopen(other, H5F_ACC_RDWR, H5P_DEFAULT);
+    CHECK(H5Ldelete(file, "bodies", H5P_DEFAULT) >= 0, "cannot delete /bodies");
+    H5Fclose(file);
+    set_format_version(other, 1);
+    mps2p_solver *old = NULL;
+    int old_bodies = 0;
+    MUST(mps2p_solver_load_checkpoint(other, &old));
+    MUST(mps2p_solver_body_count(old, &old_bodies));
+    CHECK(old_bodies == 1, "a version 1 file gave %d bodies", old_bodies);
+    MUST(mps2p_solver_step(old));
+    mps2p_solver_destroy(old);
+
+    /* version 2 without its bodies */
     set_format_version(other, 2);
-    expect_refused(other, "format version 2 is newer");
+    expect_refused(other, "bodies");
 
     snprintf(other, sizeof other, "%s/shape.chk", dir);
     MUST(mps2p_solver_save_checkpoint(solver, other));
@@ -212,7 +329,7 @@ int main(void)
     mps2p_solver_destroy(solver);
 
     const char *names[] = {"run.chk", "text.chk", "results.h5", "results.xdmf", "newer.chk",
-                           "shape.chk", "half.chk"};
+                           "shape.chk", "half.chk", "version1.chk"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
         snprintf(other, sizeof other, "%s/%s", dir, names[i]);
         remove(other);
