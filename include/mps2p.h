@@ -466,6 +466,28 @@ MPS2P_API int mps2p_solver_set_body_forces(mps2p_solver *solver, const double *a
 MPS2P_API int mps2p_solver_advance_window(mps2p_solver *solver, double end_time,
                                           uint64_t *steps_taken);
 
+/* The solver's state in memory, for implicit coupling iterations: take a
+ * window, read the forces, put the state back and take it again with
+ * corrected inputs. A state holds everything the next step depends on, as a
+ * checkpoint does: positions, velocities, pressure (the pressure solve's
+ * warm start), number density, free-surface flags, the neighbour list's
+ * build positions and count, time, step count, last dt, the diverged flag,
+ * parameters (gravity included), every body's motion and targets, and the
+ * accelerations. Restoring it gives bitwise the run the solver would have
+ * had from that point (inputs included: set new ones after restoring), and
+ * clears a divergence that happened since. A state fits only a solver with
+ * the same particles, kinds and bodies (its own, or one created from the same
+ * scene): others are refused with MPS2P_ERR_INVALID and nothing changes. It
+ * takes about 9 doubles per particle; one state can be restored many times. */
+typedef struct mps2p_state mps2p_state;
+
+MPS2P_API int mps2p_solver_save_state(const mps2p_solver *solver, mps2p_state **state);
+/* On MPS2P_ERR_NOMEM for the host's inputs nothing changes; on MPS2P_ERR_NOMEM
+ * for the neighbour list the state is restored and the list rebuilt at the
+ * next step (the run then differs in rounding from the saved one's). */
+MPS2P_API int mps2p_solver_restore_state(mps2p_solver *solver, const mps2p_state *state);
+MPS2P_API void mps2p_state_destroy(mps2p_state *state);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,0 +1,242 @@
+/* The solver's state in memory, for a coupling host's implicit iterations:
+ * everything the next step depends on (what a checkpoint holds), saved and
+ * put back without a file, so that a window can be taken again with other
+ * inputs. The particles' properties, derived constants and bodies' members
+ * never change after creation: they are compared, not copied. */
+#include "coupling.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct mps2p_state {
+    /* the shape of the solver it came from */
+    size_t count;
+    int fluid_count, body_count;
+    int *kind, *body_of;
+    /* the state of the particles and of the neighbour list */
+    double *position, *velocity, *pressure, *number_density, *built_at;
+    unsigned char *on_surface;
+    unsigned long builds;
+    int stale;
+    /* parameters (gravity changes between windows), time, counters */
+    params params;
+    double time, last_dt, ppe_residual;
+    uint64_t steps, ppe_iterations_total;
+    size_t ppe_unknowns, ppe_iterations, surface_particles;
+    int diverged;
+    /* the host's inputs: per body velocity, angular velocity, about, and the
+     * targets of one step (NULL when none); accelerations (NULL when none) */
+    double (*motion)[5];
+    double **target;
+    double *acceleration;
+};
+
+void mps2p_state_destroy(mps2p_state *st)
+{
+    if (!st)
+        return;
+    free(st->kind);
+    free(st->body_of);
+    free(st->position);
+    free(st->velocity);
+    free(st->pressure);
+    free(st->number_density);
+    free(st->built_at);
+    free(st->on_surface);
+    for (int b = 0; st->target && b < st->body_count; b++)
+        free(st->target[b]);
+    free(st->target);
+    free(st->motion);
+    free(st->acceleration);
+    free(st);
+}
+
+static void *copy_of(const void *from, size_t bytes)
+{
+    void *to = malloc(bytes ? bytes : 1);
+    if (to)
+        memcpy(to, from, bytes);
+    return to;
+}
+
+/* Copies every array; 0 when an allocation failed (the caller frees). */
+static int copy_arrays(mps2p_state *st, const mps2p_solver *s)
+{
+    const size_t n = s->count;
+    const struct coupling *c = s->coupling;
+    int ok = (st->kind = copy_of(s->kind, n * sizeof *s->kind)) &&
+             (st->body_of = copy_of(c->body_of, n * sizeof *c->body_of)) &&
+             (st->position = copy_of(s->state.position, 2 * n * sizeof(double))) &&
+             (st->velocity = copy_of(s->state.velocity, 2 * n * sizeof(double))) &&
+             (st->pressure = copy_of(s->state.pressure, n * sizeof(double))) &&
+             (st->number_density = copy_of(s->number_density, n * sizeof(double))) &&
+             (st->built_at = copy_of(s->neighbours.built_at, 2 * n * sizeof(double))) &&
+             (st->on_surface = copy_of(s->on_surface, n)) &&
+             (st->motion = malloc((size_t)c->body_count * sizeof *st->motion)) &&
+             (st->target = calloc((size_t)c->body_count, sizeof *st->target)) &&
+             (!c->acceleration ||
+              (st->acceleration = copy_of(c->acceleration, 2 * n * sizeof(double))));
+    for (int b = 0; ok && b < c->body_count; b++) {
+        const body *bd = &c->bodies[b];
+        st->motion[b][0] = bd->velocity[0];
+        st->motion[b][1] = bd->velocity[1];
+        st->motion[b][2] = bd->angular_velocity;
+        st->motion[b][3] = bd->about[0];
+        st->motion[b][4] = bd->about[1];
+        if (bd->target)
+            ok = (st->target[b] = copy_of(bd->target, 2 * bd->particles * sizeof(double))) != NULL;
+    }
+    return ok;
+}
+
+int mps2p_solver_save_state(const mps2p_solver *s, mps2p_state **state)
+{
+    if (!state)
+        return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_save_state: state output pointer is NULL");
+    *state = NULL;
+    if (!s)
+        return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_save_state: solver is NULL");
+    mps2p_state *st = calloc(1, sizeof *st);
+    if (st) {
+        st->count = s->count;
+        st->fluid_count = s->fluid_count;
+        st->body_count = s->coupling->body_count;
+    }
+    if (!st || !copy_arrays(st, s)) {
+        mps2p_state_destroy(st);
+        return fail(NULL, MPS2P_ERR_NOMEM, "out of memory saving the state of %zu particles",
+                    s->count);
+    }
+    st->builds = s->neighbours.builds;
+    st->stale = s->neighbours.stale;
+    st->params = s->params;
+    st->time = s->time;
+    st->last_dt = s->last_dt;
+    st->ppe_residual = s->ppe_residual;
+    st->steps = s->steps;
+    st->ppe_iterations_total = s->ppe_iterations_total;
+    st->ppe_unknowns = s->ppe_unknowns;
+    st->ppe_iterations = s->ppe_iterations;
+    st->surface_particles = s->surface_particles;
+    st->diverged = s->diverged;
+    *state = st;
+    return MPS2P_OK;
+}
+
+/* The same particles, kinds and bodies: a state fits only its own solver
+ * (or one built from the same scene). */
+static int same_shape(const mps2p_solver *s, const mps2p_state *st)
+{
+    return st->count == s->count && st->fluid_count == s->fluid_count &&
+           st->body_count == s->coupling->body_count &&
+           memcmp(st->kind, s->kind, s->count * sizeof *s->kind) == 0 &&
+           memcmp(st->body_of, s->coupling->body_of, s->count * sizeof *st->body_of) == 0;
+}
+
+/* Buffers the solver lacks for the state's targets and accelerations, all
+ * allocated before anything changes, so that a failure changes nothing. */
+static int reserve_inputs(const mps2p_solver *s, const mps2p_state *st, double **fresh,
+                          double **acceleration)
+{
+    const struct coupling *c = s->coupling;
+    int ok = 1;
+    for (int b = 0; ok && b < st->body_count; b++)
+        if (st->target[b] && !c->bodies[b].target)
+            ok = (fresh[b] = malloc(2 * (c->bodies[b].particles ? c->bodies[b].particles : 1) *
+                                    sizeof(double))) != NULL;
+    if (ok && st->acceleration && !c->acceleration)
+        ok = (*acceleration = malloc(2 * s->count * sizeof(double))) != NULL;
+    return ok;
+}
+
+static void put_inputs(mps2p_solver *s, const mps2p_state *st, double **fresh,
+                       double *acceleration)
+{
+    struct coupling *c = s->coupling;
+    for (int b = 0; b < st->body_count; b++) {
+        body *bd = &c->bodies[b];
+        bd->velocity[0] = st->motion[b][0];
+        bd->velocity[1] = st->motion[b][1];
+        bd->angular_velocity = st->motion[b][2];
+        bd->about[0] = st->motion[b][3];
+        bd->about[1] = st->motion[b][4];
+        if (!st->target[b]) {
+            free(bd->target);
+            bd->target = NULL;
+            continue;
+        }
+        if (!bd->target)
+            bd->target = fresh[b];
+        memcpy(bd->target, st->target[b], 2 * bd->particles * sizeof(double));
+    }
+    if (!st->acceleration) {
+        free(c->acceleration);
+        c->acceleration = NULL;
+    } else {
+        if (!c->acceleration)
+            c->acceleration = acceleration;
+        memcpy(c->acceleration, st->acceleration, 2 * s->count * sizeof(double));
+    }
+}
+
+int mps2p_solver_restore_state(mps2p_solver *s, const mps2p_state *st)
+{
+    if (!s)
+        return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_restore_state: solver is NULL");
+    if (!st)
+        return fail(s->error, MPS2P_ERR_NULL, "mps2p_solver_restore_state: state is NULL");
+    if (!same_shape(s, st))
+        return fail(s->error, MPS2P_ERR_INVALID,
+                    "mps2p_solver_restore_state: the state is of another solver (%zu particles, "
+                    "%d fluids, %d bodies; this one has %zu, %d, %d, or other kinds or bodies)",
+                    st->count, st->fluid_count, st->body_count, s->count, s->fluid_count,
+                    s->coupling->body_count);
+    double **fresh = calloc((size_t)st->body_count, sizeof *fresh), *acceleration = NULL;
+    if (!fresh || !reserve_inputs(s, st, fresh, &acceleration)) {
+        for (int b = 0; fresh && b < st->body_count; b++)
+            free(fresh[b]);
+        free(fresh);
+        free(acceleration);
+        return fail(s->error, MPS2P_ERR_NOMEM,
+                    "mps2p_solver_restore_state: out of memory for the host's inputs");
+    }
+    put_inputs(s, st, fresh, acceleration);
+    free(fresh);
+
+    const size_t n = s->count;
+    memcpy(s->state.position, st->position, 2 * n * sizeof(double));
+    memcpy(s->state.velocity, st->velocity, 2 * n * sizeof(double));
+    memcpy(s->state.pressure, st->pressure, n * sizeof(double));
+    memcpy(s->number_density, st->number_density, n * sizeof(double));
+    memcpy(s->on_surface, st->on_surface, n);
+    s->params = st->params;
+    s->time = st->time;
+    s->last_dt = st->last_dt;
+    s->ppe_residual = st->ppe_residual;
+    s->steps = st->steps;
+    s->ppe_iterations_total = st->ppe_iterations_total;
+    s->ppe_unknowns = st->ppe_unknowns;
+    s->ppe_iterations = st->ppe_iterations;
+    s->surface_particles = st->surface_particles;
+    s->diverged = st->diverged;
+
+    /* the same pairs as when saved: rebuilt from the build positions unless
+     * the list still holds them */
+    neighbour_list *nl = &s->neighbours;
+    int status = MPS2P_OK;
+    if (nl->stale || nl->builds != st->builds ||
+        memcmp(nl->built_at, st->built_at, 2 * n * sizeof(double)) != 0)
+        status = neighbours_restore(nl, st->built_at, st->builds);
+    nl->stale = nl->stale || st->stale;
+    if (status != MPS2P_OK)
+        status = fail(s->error, status, "mps2p_solver_restore_state: out of memory for the "
+                      "neighbour list (it is rebuilt at the next step)");
+    int planned = plan_build(s);
+    if (planned != MPS2P_OK && status == MPS2P_OK) {
+        char why[ERROR_MESSAGE_SIZE];
+        snprintf(why, sizeof why, "%s", mps2p_last_error());
+        status = fail(s->error, planned, "mps2p_solver_restore_state: %s", why);
+    }
+    return status;
+}
