@@ -155,7 +155,7 @@ void coupling_free(struct coupling *c)
 {
     if (!c)
         return;
-    for (int b = 0; b < c->body_count; b++) {
+    for (int b = 0; c->bodies && b < c->body_count; b++) { /* bodies NULL: calloc failed */
         free(c->bodies[b].member);
         free(c->bodies[b].target);
     }
