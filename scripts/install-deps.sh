@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what building and testing libmps2p needs on Debian bookworm (as root).
 set -euo pipefail
-packages="gcc g++ pkg-config ninja-build libgsl-dev libsuitesparse-dev libhdf5-dev binutils python3-pip"
+packages="gcc g++ gfortran pkg-config ninja-build libgsl-dev libsuitesparse-dev libhdf5-dev binutils python3-pip"
 # scripts/test-reliability.sh: clang with libFuzzer and the sanitizer
 # runtimes, and libabigail's abidw/abidiff.
 packages="$packages clang libclang-rt-14-dev abigail-tools"
