@@ -42,3 +42,23 @@ def test_bodies_force_motion_gravity_windows():
         solver.set_body_forces(None)
         with pytest.raises(mps2p.InvalidArgumentError):
             solver.body_force(7)
+
+
+def test_state_save_restore_is_bitwise():
+    scene, piston = tank_with_piston()
+    with scene, mps2p.Solver(scene) as solver:
+        solver.advance_window(0.05)
+        state = solver.save_state()
+        solver.set_body_motion(piston, velocity=(-0.05, 0.0))
+        solver.advance_window(0.08)
+        first = (solver.positions(), solver.pressure(), solver.time, solver.step_count)
+        solver.restore_state(state)
+        assert solver.time == pytest.approx(0.05, abs=1e-15)
+        solver.set_body_motion(piston, velocity=(-0.05, 0.0))
+        solver.advance_window(0.08)
+        assert solver.positions().tobytes() == first[0].tobytes()
+        assert solver.pressure().tobytes() == first[1].tobytes()
+        assert (solver.time, solver.step_count) == first[2:]
+        state.close()
+        with pytest.raises(ValueError, match="closed"):
+            solver.restore_state(state)

@@ -14,6 +14,25 @@ STAT_KEYS = ("max_speed", "kinetic_energy", "potential_energy", "pressure_min",
              "dt_next", "memory_bytes")
 
 
+class State:
+    """A solver state saved in memory (wraps mps2p_state); freed when collected
+    or closed."""
+
+    def __init__(self, handle):
+        self._handle = ffi.gc(handle, lib.mps2p_state_destroy)
+
+    @property
+    def handle(self):
+        if self._handle is None:
+            raise ValueError("the state is closed")
+        return self._handle
+
+    def close(self):
+        if self._handle is not None:
+            ffi.release(self._handle)
+            self._handle = None
+
+
 class Solver:
     """Wraps mps2p_solver. Solver(scene) copies the scene: the scene may be
     changed or closed afterwards. Free it with close(), a `with` block, or
@@ -235,6 +254,16 @@ class Solver:
         check(lib.mps2p_solver_set_body_forces(self.handle,
                                                ffi.from_buffer("double[]", accelerations),
                                                accelerations.size))
+
+    def save_state(self):
+        """Everything the next step depends on, in memory (for implicit coupling
+        iterations): restore_state(state) returns the solver to it bitwise."""
+        handle = ffi.new("mps2p_state **")
+        check(lib.mps2p_solver_save_state(self.handle, handle))
+        return State(handle[0])
+
+    def restore_state(self, state):
+        check(lib.mps2p_solver_restore_state(self.handle, state.handle))
 
     def advance_window(self, end_time):
         """One coupling window to end_time exactly; returns the steps it took."""
