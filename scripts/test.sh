@@ -2,7 +2,8 @@
 # The README's test command: every test, under AddressSanitizer and
 # UndefinedBehaviorSanitizer, then the installed library as an outside
 # program sees it (pkg-config, exported symbols) and the Python binding's
-# tests against that installed library.
+# tests against that installed library. Issue 7's reliability checks
+# (scripts/test-reliability.sh) run in between.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -18,6 +19,12 @@ meson test -C build-sanitize --suite fast --suite validation --print-errorlogs \
     --timeout-multiplier 3 | tee "$log"
 passed=$(awk '/^Ok:/ {print $2}' "$log")
 rm -f "$log"
+
+echo "== reliability: allocation failure, kills, determinism, fuzzing, TSan, ABI (issue 7)"
+rlog=$(mktemp)
+bash scripts/test-reliability.sh | tee "$rlog"
+rpassed=$(grep -oE '^reliability: [0-9]+ passed' "$rlog" | awk '{print $2}')
+rm -f "$rlog"
 
 echo "== release build, install, and an outside program"
 prefix=$(mktemp -d)
@@ -56,5 +63,5 @@ if [ -n "$foreign" ]; then
 fi
 echo "only mps2p_ symbols exported ($(nm -D --defined-only "$so" | wc -l) of them)"
 rm -rf "$prefix" "$out"
-# meson's tests, pytest's, plus the outside-program and exported-symbol checks
-echo "$((passed + pypassed + 2)) passed, 0 failed"
+# meson's tests, reliability's, pytest's, plus the outside-program and exported-symbol checks
+echo "$((passed + rpassed + pypassed + 2)) passed, 0 failed"
