@@ -265,6 +265,8 @@ MPS2P_API int mps2p_solver_get_last_dt(const mps2p_solver *solver, double *dt);
  *   neighbour_builds   times the neighbour list was built so far
  *   ppe_iterations_total  CG iterations of all solves so far
  *   dt_next            the time step the next mps2p_solver_step would take (s)
+ *   ppe_analyses       CHOLMOD symbolic analyses so far (a pressure matrix with
+ *                      the previous one's pattern reuses its analysis; 0 for cg)
  *   memory_bytes       memory the solver holds (arrays, lists, matrix, solver
  *                      workspace; CHOLMOD's factor is freed after each solve) */
 MPS2P_API int mps2p_solver_get_stat(const mps2p_solver *solver, const char *key,

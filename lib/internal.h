@@ -155,6 +155,8 @@ typedef struct linear_solver linear_solver;
 int linear_solver_create(int kind, linear_solver **solver);
 void linear_solver_destroy(linear_solver *solver);
 /* Solves A x = b; x holds the initial guess on entry (used by CG). */
+/* CHOLMOD symbolic analyses so far (a matrix of the last one's pattern reuses it). */
+uint64_t linear_solver_analyses(const linear_solver *solver);
 /* Bytes of workspace, CHOLMOD's included. */
 size_t linear_solver_memory(const linear_solver *solver);
 int linear_solver_solve(linear_solver *solver, const sparse_matrix *a,

@@ -11,10 +11,19 @@
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 struct linear_solver {
     int kind;
     cholmod_common common;
+    /* The last factor and the pattern it was analysed for: a matrix with the
+     * same pattern is factorised numerically only. The ordering depends on the
+     * pattern alone, so reuse gives the same bits as a fresh analysis. */
+    cholmod_factor *factor;
+    int *pattern_start, *pattern_column;
+    int pattern_rows;
+    size_t pattern_capacity; /* of pattern_column */
+    uint64_t analyses;       /* symbolic analyses so far */
     double *work; /* 5 vectors for CG; the first also serves the residual */
     size_t work_size;
 };
@@ -55,10 +64,19 @@ void linear_solver_destroy(linear_solver *ls)
 {
     if (!ls)
         return;
-    if (ls->kind == PRESSURE_SOLVER_CHOLMOD)
+    if (ls->kind == PRESSURE_SOLVER_CHOLMOD) {
+        cholmod_free_factor(&ls->factor, &ls->common);
         cholmod_finish(&ls->common);
+    }
+    free(ls->pattern_start);
+    free(ls->pattern_column);
     free(ls->work);
     free(ls);
+}
+
+uint64_t linear_solver_analyses(const linear_solver *ls)
+{
+    return ls ? ls->analyses : 0;
 }
 
 size_t linear_solver_memory(const linear_solver *ls)
@@ -66,8 +84,11 @@ size_t linear_solver_memory(const linear_solver *ls)
     if (!ls)
         return 0;
     size_t bytes = sizeof *ls + ls->work_size * sizeof *ls->work;
+    if (ls->pattern_start)
+        bytes += ((size_t)ls->pattern_rows + 1) * sizeof *ls->pattern_start;
+    bytes += ls->pattern_capacity * sizeof *ls->pattern_column;
     if (ls->kind == PRESSURE_SOLVER_CHOLMOD)
-        bytes += ls->common.memory_inuse; /* what CHOLMOD holds between solves */
+        bytes += ls->common.memory_inuse; /* what CHOLMOD holds, the kept factor too */
     return bytes;
 }
 
@@ -108,6 +129,35 @@ static int ensure_work(linear_solver *ls, size_t rows)
 
 #define SUPERNODAL_FROM_ROWS 3000
 
+static int same_pattern(const linear_solver *ls, const sparse_matrix *a)
+{
+    if (!ls->factor || ls->pattern_rows != a->rows)
+        return 0;
+    size_t rows = (size_t)a->rows, entries = (size_t)a->row_start[a->rows];
+    return memcmp(ls->pattern_start, a->row_start, (rows + 1) * sizeof *a->row_start) == 0 &&
+           memcmp(ls->pattern_column, a->column, entries * sizeof *a->column) == 0;
+}
+
+static int remember_pattern(linear_solver *ls, const sparse_matrix *a)
+{
+    size_t rows = (size_t)a->rows, entries = (size_t)a->row_start[a->rows];
+    int *start = realloc(ls->pattern_start, (rows + 1) * sizeof *start);
+    if (!start)
+        return MPS2P_ERR_NOMEM;
+    ls->pattern_start = start;
+    if (entries > ls->pattern_capacity) {
+        int *column = realloc(ls->pattern_column, entries * sizeof *column);
+        if (!column)
+            return MPS2P_ERR_NOMEM;
+        ls->pattern_column = column;
+        ls->pattern_capacity = entries;
+    }
+    memcpy(ls->pattern_start, a->row_start, (rows + 1) * sizeof *start);
+    memcpy(ls->pattern_column, a->column, entries * sizeof *a->column);
+    ls->pattern_rows = a->rows;
+    return MPS2P_OK;
+}
+
 static int solve_cholmod(linear_solver *ls, const sparse_matrix *a, const double *b,
                          double *x, char *message, size_t size)
 {
@@ -133,11 +183,19 @@ static int solve_cholmod(linear_solver *ls, const sparse_matrix *a, const double
      * 122-132 ms a step against 251 ms); CHOLMOD's own rule picks supernodal
      * too early here. */
     c->supernodal = a->rows < SUPERNODAL_FROM_ROWS ? CHOLMOD_SIMPLICIAL : CHOLMOD_AUTO;
-    cholmod_factor *factor = cholmod_analyze(&matrix, c);
-    if (!factor) {
-        snprintf(message, size, "CHOLMOD analysis failed (status %d)", c->status);
-        return c->status == CHOLMOD_OUT_OF_MEMORY ? MPS2P_ERR_NOMEM : MPS2P_ERR_SOLVE;
+    if (!same_pattern(ls, a)) {
+        cholmod_free_factor(&ls->factor, c);
+        ls->pattern_rows = -1;
+        ls->factor = cholmod_analyze(&matrix, c);
+        ls->analyses++;
+        if (!ls->factor) {
+            snprintf(message, size, "CHOLMOD analysis failed (status %d)", c->status);
+            return c->status == CHOLMOD_OUT_OF_MEMORY ? MPS2P_ERR_NOMEM : MPS2P_ERR_SOLVE;
+        }
+        if (remember_pattern(ls, a) != MPS2P_OK)
+            ls->pattern_rows = -1; /* no copy: analyse again next time */
     }
+    cholmod_factor *factor = ls->factor;
     cholmod_factorize(&matrix, factor, c);
     if (c->status != CHOLMOD_OK || factor->minor < factor->n) {
         snprintf(message, size,
@@ -147,7 +205,8 @@ static int solve_cholmod(linear_solver *ls, const sparse_matrix *a, const double
                      : "error",
                  c->status, (size_t)factor->minor, (size_t)factor->n);
         int status = c->status == CHOLMOD_OUT_OF_MEMORY ? MPS2P_ERR_NOMEM : MPS2P_ERR_SOLVE;
-        cholmod_free_factor(&factor, c);
+        cholmod_free_factor(&ls->factor, c); /* a failed factor is not reused */
+        ls->pattern_rows = -1;
         return status;
     }
     cholmod_dense rhs = {0};
@@ -157,7 +216,6 @@ static int solve_cholmod(linear_solver *ls, const sparse_matrix *a, const double
     rhs.xtype = CHOLMOD_REAL;
     rhs.dtype = CHOLMOD_DOUBLE;
     cholmod_dense *solution = cholmod_solve(CHOLMOD_A, factor, &rhs, c);
-    cholmod_free_factor(&factor, c);
     if (!solution) {
         snprintf(message, size, "CHOLMOD solve failed (status %d)", c->status);
         return c->status == CHOLMOD_OUT_OF_MEMORY ? MPS2P_ERR_NOMEM : MPS2P_ERR_SOLVE;

@@ -11,7 +11,7 @@ from ._native import ffi, lib
 STAT_KEYS = ("max_speed", "kinetic_energy", "potential_energy", "pressure_min",
              "pressure_max", "ppe_unknowns", "ppe_iterations", "ppe_residual",
              "surface_particles", "n0", "lambda", "neighbour_builds", "ppe_iterations_total",
-             "dt_next", "memory_bytes")
+             "dt_next", "ppe_analyses", "memory_bytes")
 
 
 class State:
