@@ -25,6 +25,8 @@ def test_quick_study(tmp_path):
         assert float(r["memory_bytes"]) > 100 * int(r["particles"])
         if r["problem"] == "dam_break":
             assert 0.0 < float(r["front_error"]) < 0.3  # MPS leads the experiment by 10-20 %
+            if r["reference"] != "finest":
+                assert 0.0 < float(r["front_error_vs_finest"]) < 0.3
         else:
             assert float(r["pressure_error"]) < 0.1
     fine = [r for r in rows if r["l0"] == "0.01" and r["variant"] == "default"]
