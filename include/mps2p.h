@@ -185,6 +185,23 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  *                     MPS2P_ERR_INVALID if the scene cannot support it);
  *                     "off": left out. An effect that is off costs nothing:
  *                     its stages are not in the step.
+ *   effect.two_phase  "auto": on when a fluid is light (density below
+ *                     light_fraction of the heaviest) and two_phase_model is
+ *                     not "single": the two-step pressure (liquid PPE, then
+ *                     gas PPE; docs/two-phase.md, a PROTOTYPE)
+ *   effect.interface_reaction  "auto": on with two_phase and
+ *                     two_phase_model "two_step_improved"
+ *   two_phase_model   "two_step_improved" (default; METHOD.md 3), "two_step"
+ *                     (Koshizuka's conventional model, METHOD.md 2) or
+ *                     "single" (one PPE over every fluid, as without air)
+ *   interface_reaction what delta_al = 1 does in two_step_improved: "drift"
+ *                     (default, provisional), "volume", "wall", "pair",
+ *                     "push", "continuity"; docs/two-phase.md (none meets
+ *                     issue 9 yet)
+ * Two-phase parameters (light_fraction, sector_scan_walls, join_enclosed,
+ * join_hold, join_ramp_time, bubble_added_mass, bubble_rise_velocity,
+ * bubble_relaxation_time, drift_liquid_gradient, gas_liquid_volume,
+ * gas_cg_tolerance, gas_pressure_limit): mps2p_param_info, docs/two-phase.md.
  * Water at rest stays still (docs/validation.md) with pressure_gradient
  * "corrected", ppe_source "ecs" and collision_distance 0.995; the defaults
  * let a still square lattice shear and rearrange. */
@@ -268,7 +285,12 @@ MPS2P_API int mps2p_solver_get_last_dt(const mps2p_solver *solver, double *dt);
  *   ppe_analyses       CHOLMOD symbolic analyses so far (a pressure matrix with
  *                      the previous one's pattern reuses its analysis; 0 for cg)
  *   memory_bytes       memory the solver holds (arrays, lists, matrix, solver
- *                      workspace; CHOLMOD's factor is freed after each solve) */
+ *                      workspace; CHOLMOD's factor is freed after each solve)
+ * With two phases (0 when effect two_phase is off): gas_triggered (light
+ *   particles with delta_al = 1 in the last step), gas_enclosed (heavy
+ *   particles in all 8 sectors), gas_joined (reacting), gas_pressure_max (Pa,
+ *   over light particles moved by the gas), gas_ppe_unknowns,
+ *   gas_ppe_iterations, two_phase_active (1 when the effect is on). */
 MPS2P_API int mps2p_solver_get_stat(const mps2p_solver *solver, const char *key,
                                     double *value);
 
@@ -321,7 +343,9 @@ MPS2P_API const char *mps2p_results_last_error(const mps2p_results *results);
  * flag, the neighbour list's reference positions; the wall bodies, their
  * motions and targets, gravity and the accelerations of section 7) to path,
  * atomically: it is
- * written to "<path>.tmp", flushed to disk and renamed over path. */
+ * written to "<path>.tmp", flushed to disk and renamed over path. A solver
+ * with effect two_phase on is refused (MPS2P_ERR_STATE): its two-phase state
+ * (join weights and flags) is not saved yet, and a restart would differ. */
 MPS2P_API int mps2p_solver_save_checkpoint(const mps2p_solver *solver, const char *path);
 
 /* Rebuilds a solver from a checkpoint. Stepping it gives bitwise the results
@@ -480,7 +504,9 @@ MPS2P_API int mps2p_solver_advance_window(mps2p_solver *solver, double end_time,
  * clears a divergence that happened since. A state fits only a solver with
  * the same particles, kinds and bodies (its own, or one created from the same
  * scene): others are refused with MPS2P_ERR_INVALID and nothing changes. It
- * takes about 9 doubles per particle; one state can be restored many times. */
+ * takes about 9 doubles per particle; one state can be restored many times.
+ * A two-phase solver (effect two_phase on) is refused with MPS2P_ERR_STATE,
+ * as by mps2p_solver_save_checkpoint. */
 typedef struct mps2p_state mps2p_state;
 
 MPS2P_API int mps2p_solver_save_state(const mps2p_solver *solver, mps2p_state **state);

@@ -208,6 +208,12 @@ int mps2p_solver_save_checkpoint(const mps2p_solver *s, const char *path)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_save_checkpoint: path is NULL");
     if (!path[0])
         return fail(NULL, MPS2P_ERR_INVALID, "mps2p_solver_save_checkpoint: path is empty");
+    /* as mps2p_solver_save_state (state.c): no checkpoint that would not
+     * restart bit for bit */
+    if (s->phases)
+        return fail(NULL, MPS2P_ERR_STATE,
+                    "mps2p_solver_save_checkpoint: a two-phase solver (effect two_phase on) "
+                    "cannot be checkpointed yet: its join weights and flags are not saved");
     char *temporary = path_join_suffix(path, strlen(path), ".tmp");
     if (!temporary)
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory saving checkpoint \"%s\"", path);

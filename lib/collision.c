@@ -35,7 +35,17 @@ void collision_apply(mps2p_solver *s, double dt)
             if (approach <= 0.0)
                 continue;
             double share = 1.0;
-            if (s->kind[j] == MPS2P_KIND_FLUID)
+            if (s->phases && s->phases->light[i] != s->phases->light[j] &&
+                s->kind[j] == MPS2P_KIND_FLUID) {
+                /* Two phases: the liquid ignores the gas, the gas bounces off
+                 * the liquid as off a wall; a light particle that joined the
+                 * liquid solve (last step) collides as liquid, half each. */
+                size_t gas = s->phases->light[i] ? i : j;
+                if (s->phases->joined[gas])
+                    share = 0.5;
+                else if (!s->phases->light[i])
+                    continue;
+            } else if (s->kind[j] == MPS2P_KIND_FLUID)
                 share = s->density[j] / (s->density[i] + s->density[j]);
             double impulse = (1.0 + e) * share * approach;
             updated[2 * i] -= impulse * nx;

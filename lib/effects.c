@@ -33,6 +33,44 @@ static int collision_needed(const mps2p_solver *s, char *why, size_t size)
     return s->params.collision_distance > 0.0;
 }
 
+/* A light fluid (density below light_fraction of the heaviest) calls for the
+ * two-step pressure; two_phase_model "single" solves one PPE over every fluid
+ * instead, so the effect cannot be on then. */
+static int two_phase_needed(const mps2p_solver *s, char *why, size_t size)
+{
+    double heaviest = 0.0, light = phases_light_density(s, &heaviest);
+    if (s->params.two_phase_model == TWO_PHASE_SINGLE) {
+        snprintf(why, size, "two_phase_model is \"single\" (one PPE over every fluid)");
+        return 0;
+    }
+    if (light > 0.0)
+        snprintf(why, size, "a fluid of %g kg/m^3 is below light_fraction %g of the heaviest "
+                 "(%g kg/m^3)", light, s->params.light_fraction, heaviest);
+    else
+        snprintf(why, size, "no fluid is below light_fraction %g of the heaviest (%g kg/m^3)",
+                 s->params.light_fraction, heaviest);
+    return light > 0.0;
+}
+
+/* The gas acting back on the liquid (METHOD.md 3): the improved model only.
+ * Decided after two_phase (effects are decided in table order). */
+static int interface_reaction_needed(const mps2p_solver *s, char *why, size_t size)
+{
+    if (!s->effect_active[EFFECT_TWO_PHASE]) {
+        snprintf(why, size, "effect two_phase is off");
+        return 0;
+    }
+    if (s->params.two_phase_model != TWO_PHASE_IMPROVED) {
+        snprintf(why, size, "two_phase_model is \"two_step\" (the conventional model: the gas "
+                 "never pushes the liquid)");
+        return 0;
+    }
+    const char *form = "?";
+    params_get_option(&s->params, "interface_reaction", &form);
+    snprintf(why, size, "two_phase_model is \"two_step_improved\", reaction \"%s\"", form);
+    return 1;
+}
+
 typedef struct effect_entry {
     const char *name; /* its option is "effect.<name>" */
     needed_fn needed;
@@ -42,6 +80,8 @@ static const effect_entry effects[EFFECT_COUNT] = {
     [EFFECT_GRAVITY] = {"gravity", gravity_needed},
     [EFFECT_VISCOSITY] = {"viscosity", viscosity_needed},
     [EFFECT_COLLISION] = {"collision", collision_needed},
+    [EFFECT_TWO_PHASE] = {"two_phase", two_phase_needed},
+    [EFFECT_INTERFACE_REACTION] = {"interface_reaction", interface_reaction_needed},
 };
 
 const char *effect_name(int effect)

@@ -23,9 +23,32 @@ int fail(char *handle_buffer, int status, const char *format, ...)
 enum pressure_solver_kind { PRESSURE_SOLVER_CHOLMOD = 0, PRESSURE_SOLVER_CG = 1 };
 enum pressure_gradient_kind { GRADIENT_MINIMUM = 0, GRADIENT_CORRECTED = 1 };
 enum ppe_source_kind { PPE_SOURCE_DENSITY = 0, PPE_SOURCE_MIXED = 1, PPE_SOURCE_ECS = 2 };
+/* Two-phase model (effects two_phase and interface_reaction, phases.c). */
+enum two_phase_model_kind {
+    TWO_PHASE_IMPROVED = 0, /* two_step_improved: the default */
+    TWO_PHASE_TWO_STEP = 1, /* two_step: Koshizuka's conventional model */
+    TWO_PHASE_SINGLE = 2    /* single: one PPE over every fluid */
+};
+/* What delta_al = 1 does (interface_reaction.c). */
+enum interface_reaction_kind {
+    REACTION_VOLUME = 0, /* joins the liquid solve, moved by -grad p_l / rho_eff */
+    REACTION_WALL = 1,   /* joins the liquid solve as a moving wall, moved by its gas pressure */
+    REACTION_PAIR = 2,   /* momentum-conserving pair reaction of its gas pressure */
+    REACTION_PUSH = 3,   /* its gas pressure pushes the liquid, eq. (5) read literally */
+    REACTION_DRIFT = 4,  /* joins the liquid solve, moves with the liquid plus a rise velocity */
+    REACTION_CONTINUITY = 5 /* gas solve with the liquid's pressure on liquid particles,
+                               bounded gas density in liquid, pair reaction when triggered */
+};
 
 /* Physical effects (effects.c); each is switched by option "effect.<name>". */
-enum effect_id { EFFECT_GRAVITY, EFFECT_VISCOSITY, EFFECT_COLLISION, EFFECT_COUNT };
+enum effect_id {
+    EFFECT_GRAVITY,
+    EFFECT_VISCOSITY,
+    EFFECT_COLLISION,
+    EFFECT_TWO_PHASE,          /* two-step pressure, liquid and gas (METHOD.md 2) */
+    EFFECT_INTERFACE_REACTION, /* gas acting back on the liquid (METHOD.md 3); needs two_phase */
+    EFFECT_COUNT
+};
 enum effect_mode { EFFECT_AUTO = 0, EFFECT_ON = 1, EFFECT_OFF = 2 };
 
 typedef struct params {
@@ -47,9 +70,23 @@ typedef struct params {
     double pressure_limit;
     double displacement_limit;
     double neighbour_skin;
+    double light_fraction;     /* a fluid is light below this fraction of the heaviest */
+    double sector_scan_walls;  /* 1 = walls count as heavy in the 8-sector scan */
+    double join_enclosed;      /* 1 = enclosed light particles join as triggered ones */
+    double bubble_added_mass;  /* C_m of the volume reaction */
+    double gas_pressure_limit; /* Pa; 0 = derived */
+    double bubble_rise_velocity; /* m/s, slip of a joined light particle (drift) */
+    double bubble_relaxation_time; /* s, of the slip toward the rise velocity (drift) */
+    double drift_liquid_gradient;  /* 1 = drift particles corrected by the liquid pressure */
+    double join_ramp_time;     /* s, ramp of a joining particle's weight; 0 = at once */
+    double gas_liquid_volume;  /* gas sees liquid particles weighted (0, 1, 2: gas_pressure.c) */
+    double gas_cg_tolerance;   /* CG tolerance of the gas solve; 0 = cg_tolerance */
+    double join_hold;          /* 1 = a joined particle stays joined while inside the liquid */
     int pressure_solver;
     int pressure_gradient;
     int ppe_source;
+    int two_phase_model;
+    int interface_reaction;
     int effect_mode[EFFECT_COUNT];
 } params;
 
@@ -181,10 +218,75 @@ enum stage_id {
     STAGE_PRESSURE_SOLVE,
     STAGE_CORRECTION,
     STAGE_DIVERGENCE_CHECK,
+    /* two phases (phases.c, interface_reaction.c, gas_pressure.c) */
+    STAGE_PHASES_START,
+    STAGE_INTERFACE_SCAN,
+    STAGE_INTERFACE_JOIN,
+    STAGE_LIQUID_PRESSURE,
+    STAGE_GAS_PRESSURE,
+    STAGE_TWO_PHASE_CORRECTION,
+    STAGE_INTERFACE_DRIFT,
+    STAGE_GAS_DIVERGENCE_CHECK,
     STAGE_COUNT
 };
 #define PLAN_CAPACITY 32
 #define EFFECT_REASON_SIZE 160
+
+/* ---- two phases (phases.c, interface_reaction.c, gas_pressure.c) ---- */
+
+/* State of the two-step pressure (METHOD.md sections 2-3). Allocated by
+ * plan_build only when effect two_phase is on (a scene with a light fluid:
+ * density below light_fraction of the heaviest, and two_phase_model not
+ * "single"); a single-phase solver never holds one. */
+typedef struct two_phase {
+    int improved;               /* effect interface_reaction is on */
+    double heavy_density;       /* of the heaviest fluid */
+    double light_density;       /* of the heaviest light fluid */
+    unsigned char *light;       /* per particle: fluid of a light phase */
+    unsigned char *triggered;   /* delta_al = 1 in the last step (eq. 15) */
+    unsigned char *enclosed;    /* heavy particles in all 8 sectors */
+    unsigned char *joined;      /* light particle taking part in the liquid solve */
+    unsigned char *was_joined;  /* joined in the step before */
+    double *join_weight;        /* weight in the liquid's number density, ramped 0..1 */
+    unsigned char *heavy_part;  /* participants of the liquid PPE */
+    unsigned char *heavy_mask;  /* neighbours the liquid sees: not light, or joined */
+    unsigned char *gas_part;    /* participants of the gas PPE */
+    unsigned char *heavy_surface, *gas_surface;
+    double *heavy_n, *heavy_n_start; /* number density the liquid sees */
+    double *heavy_pressure, *gas_pressure;
+    double *gas_dirichlet;      /* liquid pressure on liquid particles (continuity) */
+    double *gas_n;              /* number density the gas solve sees */
+    double *heavy_n_initial;    /* the liquid's number density at the first step */
+    int have_initial;
+    double *heavy_rho, *gas_rho;     /* densities of the two PPEs' sources */
+    double gas_pressure_limit;
+    /* diagnostics of the last step */
+    size_t triggered_count, enclosed_count, joined_count;
+    size_t heavy_unknowns, heavy_iterations, gas_unknowns, gas_iterations;
+    double gas_pressure_max;
+} two_phase;
+
+/* Density of the heaviest light fluid, 0 when the scene has none; *heaviest
+ * gets the heaviest fluid's (effects.c and phases_init share the rule). */
+double phases_light_density(const mps2p_solver *s, double *heaviest);
+/* Allocates s->phases (plan_build, when effect two_phase is on). */
+int phases_init(mps2p_solver *s);
+void phases_free(struct two_phase *tp);
+size_t phases_memory_bytes(const mps2p_solver *s);
+/* Stages of a two-phase step, in the order of the plan (stages.c). */
+void phases_step_start(mps2p_solver *s);                 /* liquid's own n^k */
+void interface_scan(mps2p_solver *s);                    /* interface_reaction.c */
+void interface_join(mps2p_solver *s);                    /* interface_reaction.c */
+int liquid_pressure_solve(mps2p_solver *s, double dt);   /* phases.c */
+/* The gas PPE, then the state's pressure per phase (phases_pressure_combine). */
+int gas_pressure_solve(mps2p_solver *s, double dt);      /* gas_pressure.c */
+void phases_pressure_combine(mps2p_solver *s);           /* phases.c */
+void phases_correct(mps2p_solver *s, double dt);         /* per phase, plus reaction */
+void interface_reaction_apply(mps2p_solver *s, double dt, double *change);
+void interface_drift_apply(mps2p_solver *s, double dt);
+int phases_divergence_check(mps2p_solver *s, double dt);
+/* Two-phase statistics by name (0 when off); MPS2P_ERR_UNKNOWN_KEY if not one. */
+int phases_get_stat(const mps2p_solver *s, const char *key, double *value);
 
 /* ---- solver state (solver.c and the stages) ---- */
 
@@ -216,6 +318,8 @@ struct mps2p_solver {
     double n0_density, n0_laplacian, lambda;
     double domain[4];
     double dt_max, pressure_limit;
+
+    struct two_phase *phases; /* allocated only when effect two_phase is on */
 
     /* pressure solve */
     sparse_matrix matrix;
@@ -288,6 +392,14 @@ void gradient_at(const mps2p_solver *s, size_t i, const double *field, double re
                  double out[2]);
 /* min(f_i, min_j f_j) over non-dummy neighbours within the density radius. */
 double minimum_around(const mps2p_solver *s, size_t i, const double *field);
+/* The same, over the neighbours j with mask[j] != 0 only (NULL = as above):
+ * each phase of a two-phase step sees only its own particles. */
+void gradient_masked_at(const mps2p_solver *s, size_t i, const double *field, double reference,
+                        const unsigned char *mask, double out[2]);
+double minimum_masked_around(const mps2p_solver *s, size_t i, const double *field,
+                             const unsigned char *mask);
+void laplacian_masked_at(const mps2p_solver *s, size_t i, const double *field,
+                         size_t components, const unsigned char *mask, double *out);
 /* Inverse of (d/n0) sum_j w r_ij r_ij^T / |r_ij|^2 over fluid and wall
  * neighbours, as (xx, xy, yy); returns 0 when its determinant is below
  * CORRECTIVE_MIN_DETERMINANT (one-sided neighbourhoods), 1 otherwise. */
@@ -307,6 +419,24 @@ void number_density_compute(mps2p_solver *s, double *out);                     /
 void free_surface_detect(mps2p_solver *s);                        /* free_surface.c */
 int pressure_assemble(mps2p_solver *s, double dt);                /* pressure.c */
 int pressure_solve(mps2p_solver *s);                              /* pressure.c */
+/* One PPE over a subset of the particles (pressure.c), for the two phases'
+ * solves: part marks the participants (NULL = every non-dummy particle),
+ * surface the Dirichlet ones; n_star, n_start and density enter the source
+ * (and density the diagonal); pressure holds the warm start on entry and
+ * every particle's result on exit (0 for non-participants). */
+typedef struct ppe_system {
+    const unsigned char *part;
+    const unsigned char *surface;
+    const double *n_star, *n_start, *density;
+    double *pressure;
+    double tolerance;           /* CG tolerance; 0 = cg_tolerance */
+    const double *dirichlet;    /* values of participants that are not unknowns; NULL = 0 */
+    double re_in_l0;            /* Laplacian radius of this system; 0 = re_laplacian */
+    size_t unknowns, iterations;
+    double residual;
+} ppe_system;
+int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys);
+int pressure_solve_system(mps2p_solver *s, ppe_system *sys);
 void pressure_correct(mps2p_solver *s, double dt);                /* correction.c */
 int divergence_check(mps2p_solver *s, double dt);                 /* divergence.c */
 

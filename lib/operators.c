@@ -6,13 +6,19 @@
 void gradient_at(const mps2p_solver *s, size_t i, const double *field, double reference,
                  double out[2])
 {
+    gradient_masked_at(s, i, field, reference, NULL, out);
+}
+
+void gradient_masked_at(const mps2p_solver *s, size_t i, const double *field, double reference,
+                        const unsigned char *mask, double out[2])
+{
     const double re = s->params.re_density * s->l0, re2 = re * re;
     const neighbour_list *nl = &s->neighbours;
     const double *position = s->state.position;
     double gx = 0.0, gy = 0.0;
     for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
         size_t j = nl->index[k];
-        if (s->kind[j] == MPS2P_KIND_DUMMY)
+        if (s->kind[j] == MPS2P_KIND_DUMMY || (mask && !mask[j]))
             continue;
         double dx = position[2 * j] - position[2 * i];
         double dy = position[2 * j + 1] - position[2 * i + 1];
@@ -65,13 +71,19 @@ int corrective_matrix_at(const mps2p_solver *s, size_t i, double inverse[3])
 
 double minimum_around(const mps2p_solver *s, size_t i, const double *field)
 {
+    return minimum_masked_around(s, i, field, NULL);
+}
+
+double minimum_masked_around(const mps2p_solver *s, size_t i, const double *field,
+                             const unsigned char *mask)
+{
     const double re = s->params.re_density * s->l0, re2 = re * re;
     const neighbour_list *nl = &s->neighbours;
     const double *position = s->state.position;
     double minimum = field[i];
     for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
         size_t j = nl->index[k];
-        if (s->kind[j] == MPS2P_KIND_DUMMY)
+        if (s->kind[j] == MPS2P_KIND_DUMMY || (mask && !mask[j]))
             continue;
         double dx = position[2 * j] - position[2 * i];
         double dy = position[2 * j + 1] - position[2 * i + 1];
@@ -84,6 +96,12 @@ double minimum_around(const mps2p_solver *s, size_t i, const double *field)
 void laplacian_at(const mps2p_solver *s, size_t i, const double *field, size_t components,
                   double *out)
 {
+    laplacian_masked_at(s, i, field, components, NULL, out);
+}
+
+void laplacian_masked_at(const mps2p_solver *s, size_t i, const double *field,
+                         size_t components, const unsigned char *mask, double *out)
+{
     const double re = s->params.re_laplacian * s->l0;
     const neighbour_list *nl = &s->neighbours;
     const double *position = s->state.position;
@@ -92,6 +110,8 @@ void laplacian_at(const mps2p_solver *s, size_t i, const double *field, size_t c
         out[c] = 0.0;
     for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
         size_t j = nl->index[k];
+        if (mask && !mask[j])
+            continue;
         double dx = position[2 * j] - position[2 * i];
         double dy = position[2 * j + 1] - position[2 * i + 1];
         double w = kernel_weight(sqrt(dx * dx + dy * dy), re);

@@ -51,6 +51,34 @@ static const param_entry table[] = {
      "a particle moving farther in one step means diverged, in l0; 0 = no check"},
     {"neighbour_skin", FIELD(neighbour_skin), 0.4, 0.0, 5.0,
      "extra radius of the neighbour list, in l0"},
+    /* two phases (docs/two-phase.md): read only when effect two_phase is on */
+    {"light_fraction", FIELD(light_fraction), 0.1, 1e-9, 1.0,
+     "a fluid lighter than this fraction of the heaviest is light (two-phase)"},
+    {"sector_scan_walls", FIELD(sector_scan_walls), 1.0, 0.0, 1.0,
+     "1 = wall particles count as heavy (velocity 0) in the 8-sector scan"},
+    {"join_enclosed", FIELD(join_enclosed), 1.0, 0.0, 1.0,
+     "1 = light particles with heavy ones in all 8 sectors react as triggered ones"},
+    {"bubble_added_mass", FIELD(bubble_added_mass), 1.0, 0.0, 1e6,
+     "added-mass coefficient C_m of a light particle in the liquid (2D cylinder: 1)"},
+    {"bubble_rise_velocity", FIELD(bubble_rise_velocity), 0.2, 0.0, 100.0,
+     "rise velocity of a joined light particle relative to the liquid, m/s (drift)"},
+    {"bubble_relaxation_time", FIELD(bubble_relaxation_time), 0.02, 1e-9, 1e6,
+     "relaxation time of a joined light particle's slip toward the rise velocity, s (drift)"},
+    {"drift_liquid_gradient", FIELD(drift_liquid_gradient), 0.0, 0.0, 1.0,
+     "1 = a drift particle is corrected by the liquid pressure (as liquid), 0 = by its gas "
+     "pressure"},
+    {"join_ramp_time", FIELD(join_ramp_time), 0.0, 0.0, 1e6,
+     "time over which a joining light particle's weight in the liquid number density ramps "
+     "0 to 1, s"},
+    {"gas_liquid_volume", FIELD(gas_liquid_volume), 0.0, 0.0, 2.0,
+     "gas's number density: a liquid particle weighs 1 (0), n0 / n_liquid (1) or its initial "
+     "n_liquid / n_liquid (2), in [1, 2]"},
+    {"gas_cg_tolerance", FIELD(gas_cg_tolerance), 0.0, 0.0, 1e-1,
+     "relative residual of the gas CG solve; 0 = cg_tolerance"},
+    {"join_hold", FIELD(join_hold), 1.0, 0.0, 1.0,
+     "1 = a joined light particle stays joined while more heavy than light neighbours"},
+    {"gas_pressure_limit", FIELD(gas_pressure_limit), 0.0, 0.0, BIG,
+     "|gas pressure| above it means diverged (Pa); 0 = 1000 rho_light max(|g| L, 1 m^2/s^2)"},
 };
 
 #define TABLE_SIZE (sizeof table / sizeof table[0])
@@ -75,6 +103,10 @@ void params_set_defaults(params *p)
     p->pressure_solver = PRESSURE_SOLVER_CHOLMOD;
     p->pressure_gradient = GRADIENT_MINIMUM;
     p->ppe_source = PPE_SOURCE_DENSITY;
+    p->two_phase_model = TWO_PHASE_IMPROVED;
+    /* Provisional (docs/two-phase.md): the form that ran longest on the
+     * paper's case; none of the forms meets issue 9 yet. */
+    p->interface_reaction = REACTION_DRIFT;
     for (int e = 0; e < EFFECT_COUNT; e++)
         p->effect_mode[e] = EFFECT_AUTO;
 }
@@ -99,8 +131,17 @@ int params_set(params *p, const char *key, double value, char *message, size_t s
         snprintf(message, size, "parameter %s must be a whole number, got %g", key, value);
         return MPS2P_ERR_INVALID;
     }
-    if (strcmp(key, "clamp_negative_pressure") == 0 && value != 0.0 && value != 1.0) {
-        snprintf(message, size, "parameter %s must be 0 or 1, got %g", key, value);
+    static const char *const switches[] = {"clamp_negative_pressure", "sector_scan_walls",
+                                           "join_enclosed", "join_hold",
+                                           "drift_liquid_gradient"};
+    for (size_t i = 0; i < sizeof switches / sizeof switches[0]; i++) {
+        if (strcmp(key, switches[i]) == 0 && value != 0.0 && value != 1.0) {
+            snprintf(message, size, "parameter %s must be 0 or 1, got %g", key, value);
+            return MPS2P_ERR_INVALID;
+        }
+    }
+    if (strcmp(key, "gas_liquid_volume") == 0 && value != 0.0 && value != 1.0 && value != 2.0) {
+        snprintf(message, size, "parameter %s must be 0, 1 or 2, got %g", key, value);
         return MPS2P_ERR_INVALID;
     }
     *slot(p, e) = value;
@@ -117,22 +158,29 @@ int params_get(const params *p, const char *key, double *value)
 }
 
 /* The named choices: each maps a few names onto an int field of params
- * (the index of the name is the stored value, the first is the default). */
+ * (the index of the name is the stored value; the default is the first,
+ * except interface_reaction, set in params_set_defaults). */
 typedef struct option_entry {
     const char *key;
     size_t offset;
-    const char *names[4]; /* NULL-terminated */
+    const char *names[7]; /* NULL-terminated */
 } option_entry;
 
 static const option_entry options[] = {
     {"pressure_solver", offsetof(params, pressure_solver), {"cholmod", "cg", NULL}},
     {"pressure_gradient", offsetof(params, pressure_gradient), {"minimum", "corrected", NULL}},
     {"ppe_source", offsetof(params, ppe_source), {"density", "mixed", "ecs", NULL}},
+    {"two_phase_model", offsetof(params, two_phase_model),
+     {"two_step_improved", "two_step", "single", NULL}},
+    {"interface_reaction", offsetof(params, interface_reaction),
+     {"volume", "wall", "pair", "push", "drift", "continuity", NULL}},
 #define EFFECT_OPTION(key, effect)                                               \
     {key, offsetof(params, effect_mode) + (effect) * sizeof(int), {"auto", "on", "off", NULL}}
     EFFECT_OPTION("effect.gravity", EFFECT_GRAVITY),
     EFFECT_OPTION("effect.viscosity", EFFECT_VISCOSITY),
     EFFECT_OPTION("effect.collision", EFFECT_COLLISION),
+    EFFECT_OPTION("effect.two_phase", EFFECT_TWO_PHASE),
+    EFFECT_OPTION("effect.interface_reaction", EFFECT_INTERFACE_REACTION),
 #undef EFFECT_OPTION
 };
 

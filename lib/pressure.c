@@ -35,9 +35,10 @@ static int grow_matrix(sparse_matrix *m, int rows, size_t entries)
     return MPS2P_OK;
 }
 
-static int takes_part(const mps2p_solver *s, size_t j)
+/* Participants: the system's mask when it has one, else every non-dummy. */
+static int takes_part(const mps2p_solver *s, const ppe_system *sys, size_t j)
 {
-    return s->kind[j] != MPS2P_KIND_DUMMY;
+    return sys->part ? sys->part[j] != 0 : s->kind[j] != MPS2P_KIND_DUMMY;
 }
 
 /* The PPE source, rho/dt^2 times a number-density deviation over n0:
@@ -50,34 +51,68 @@ static int takes_part(const mps2p_solver *s, size_t j)
  *            the drift's factor the error itself, after Khayyer and Gotoh's
  *            error-compensating source (a simplified form, not theirs
  *            exactly): noise-sized errors are hardly amplified by 1/dt^2. */
-static double source_term(const mps2p_solver *s, size_t i, double dt)
+static double source_term(const mps2p_solver *s, const ppe_system *sys, size_t i, double dt)
 {
     const double n0 = s->n0_density, gamma = s->params.ppe_relaxation;
-    const double scale = s->density[i] / (dt * dt) / n0;
-    const double n_star = s->number_density[i];
+    const double scale = sys->density[i] / (dt * dt) / n0;
+    const double n_star = sys->n_star[i];
     if (s->params.ppe_source == PPE_SOURCE_DENSITY)
         return scale * gamma * (n_star - n0);
-    const double n_start = s->number_density_start[i]; /* allocated for these sources only */
+    const double n_start = sys->n_start[i]; /* allocated for these sources only */
     if (s->params.ppe_source == PPE_SOURCE_MIXED)
         return scale * ((n_star - n_start) + gamma * (n_start - n0));
     return scale * ((n_star - n_start) + fabs(n_start - n0) / n0 * (n_start - n0));
 }
 
+/* The single-phase system: every fluid and wall particle, its own density. */
+static ppe_system single_phase_system(mps2p_solver *s)
+{
+    ppe_system sys = {NULL, s->on_surface, s->number_density, s->number_density_start,
+                      s->density, s->state.pressure, 0.0, NULL, 0.0, s->ppe_unknowns, 0, 0.0};
+    return sys;
+}
+
 int pressure_assemble(mps2p_solver *s, double dt)
 {
-    const double re = s->params.re_laplacian * s->l0;
-    const double c = 2.0 * 2 / (s->lambda * s->n0_laplacian);
+    ppe_system sys = single_phase_system(s);
+    int status = pressure_assemble_system(s, dt, &sys);
+    s->ppe_unknowns = sys.unknowns;
+    s->ppe_iterations = 0;
+    s->ppe_residual = 0.0;
+    return status;
+}
+
+int pressure_solve(mps2p_solver *s)
+{
+    ppe_system sys = single_phase_system(s);
+    int status = pressure_solve_system(s, &sys);
+    s->ppe_iterations = sys.iterations;
+    s->ppe_iterations_total += sys.iterations;
+    s->ppe_residual = sys.residual;
+    return status;
+}
+
+int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
+{
+    double re = s->params.re_laplacian * s->l0;
+    double c = 2.0 * 2 / (s->lambda * s->n0_laplacian);
+    if (sys->re_in_l0 > 0.0) { /* a system of its own radius (gas_pressure.c) */
+        double n0, lambda;
+        lattice_constants(s->l0, sys->re_in_l0, &n0, &lambda);
+        re = sys->re_in_l0 * s->l0;
+        c = 2.0 * 2 / (lambda * n0);
+    }
     const neighbour_list *nl = &s->neighbours;
     const double *position = s->state.position;
-    double *pressure = s->state.pressure;
+    double *pressure = sys->pressure;
 
     /* Number the unknowns in particle order. */
     long unknowns = 0;
     for (size_t i = 0; i < s->count; i++)
-        s->unknown_of[i] = (takes_part(s, i) && !s->on_surface[i]) ? unknowns++ : -1;
-    s->ppe_unknowns = (size_t)unknowns;
-    s->ppe_iterations = 0;
-    s->ppe_residual = 0.0;
+        s->unknown_of[i] = (takes_part(s, sys, i) && !sys->surface[i]) ? unknowns++ : -1;
+    sys->unknowns = (size_t)unknowns;
+    sys->iterations = 0;
+    sys->residual = 0.0;
     if (unknowns == 0)
         return MPS2P_OK;
 
@@ -113,10 +148,11 @@ int pressure_assemble(mps2p_solver *s, double dt)
             continue;
         m->row_start[row] = next;
         int diagonal_at = -1;
-        double diagonal = s->density[i] * s->params.compressibility / (dt * dt);
+        double dirichlet_sum = 0.0;
+        double diagonal = sys->density[i] * s->params.compressibility / (dt * dt);
         for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
             size_t j = nl->index[k];
-            if (!takes_part(s, j))
+            if (!takes_part(s, sys, j))
                 continue;
             double dx = position[2 * j] - position[2 * i];
             double dy = position[2 * j + 1] - position[2 * i + 1];
@@ -124,8 +160,11 @@ int pressure_assemble(mps2p_solver *s, double dt)
                 continue;
             double w = kernel_weight(sqrt(dx * dx + dy * dy), re);
             diagonal += c * w;
-            if (s->unknown_of[j] < 0)
+            if (s->unknown_of[j] < 0) {
+                if (sys->dirichlet)
+                    dirichlet_sum += c * w * sys->dirichlet[j];
                 continue;
+            }
             if (diagonal_at < 0 && j > i)
                 diagonal_at = next++; /* keep columns sorted */
             m->column[next] = (int)s->unknown_of[j];
@@ -136,41 +175,44 @@ int pressure_assemble(mps2p_solver *s, double dt)
             diagonal_at = next++;
         m->column[diagonal_at] = (int)row;
         m->value[diagonal_at] = diagonal;
-        s->rhs[row] = source_term(s, i, dt);
+        s->rhs[row] = source_term(s, sys, i, dt);
+        if (sys->dirichlet) /* only then: adding 0 would turn a -0 source into +0 */
+            s->rhs[row] += dirichlet_sum;
         s->solution[row] = pressure[i]; /* warm start for CG */
     }
     m->row_start[unknowns] = next;
     return MPS2P_OK;
 }
 
-int pressure_solve(mps2p_solver *s)
+int pressure_solve_system(mps2p_solver *s, ppe_system *sys)
 {
-    double *pressure = s->state.pressure;
-    if (s->ppe_unknowns == 0) {
+    double *pressure = sys->pressure;
+    if (sys->unknowns == 0) {
         memset(pressure, 0, s->count * sizeof *pressure);
         return MPS2P_OK;
     }
     const sparse_matrix *m = &s->matrix;
-    const size_t unknowns = s->ppe_unknowns;
+    const size_t unknowns = sys->unknowns;
     size_t max_iterations = s->params.cg_max_iterations > 0.0
                                 ? (size_t)s->params.cg_max_iterations
                                 : 10 * unknowns + 100;
     char message[ERROR_MESSAGE_SIZE];
     size_t iterations = 0;
     double residual = 0.0;
-    int status = linear_solver_solve(s->linear, m, s->rhs, s->solution,
-                                     s->params.cg_tolerance, max_iterations, &iterations,
-                                     &residual, message, sizeof message);
-    s->ppe_iterations = iterations;
-    s->ppe_iterations_total += iterations;
-    s->ppe_residual = residual;
+    double tolerance = sys->tolerance > 0.0 ? sys->tolerance : s->params.cg_tolerance;
+    int status = linear_solver_solve(s->linear, m, s->rhs, s->solution, tolerance,
+                                     max_iterations, &iterations, &residual, message,
+                                     sizeof message);
+    sys->iterations = iterations;
+    sys->residual = residual;
     if (status != MPS2P_OK)
         return fail(s->error, status, "step %llu at t = %.6g s: pressure solve failed: %s",
                     (unsigned long long)s->steps + 1, s->time, message);
 
     int clamp = s->params.clamp_negative_pressure != 0.0;
     for (size_t i = 0; i < s->count; i++) {
-        double p = s->unknown_of[i] >= 0 ? s->solution[s->unknown_of[i]] : 0.0;
+        double p = s->unknown_of[i] >= 0 ? s->solution[s->unknown_of[i]]
+                   : (sys->dirichlet && takes_part(s, sys, i)) ? sys->dirichlet[i] : 0.0;
         pressure[i] = (clamp && p < 0.0) ? 0.0 : p;
     }
     return MPS2P_OK;

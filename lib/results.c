@@ -165,6 +165,8 @@ int mps2p_solver_get_stat(const mps2p_solver *s, const char *key, double *value)
         *value = timestep_choose(s);
     else if (!strcmp(key, "memory_bytes"))
         *value = (double)solver_memory_bytes(s);
+    else if (phases_get_stat(s, key, value) == MPS2P_OK)
+        return MPS2P_OK;
     else
         return fail(NULL, MPS2P_ERR_UNKNOWN_KEY, "unknown statistic \"%s\"", key);
     return MPS2P_OK;

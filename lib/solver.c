@@ -46,6 +46,7 @@ void mps2p_solver_destroy(mps2p_solver *s)
     free(s->unknown_of);
     linear_solver_destroy(s->linear);
     coupling_free(s->coupling);
+    phases_free(s->phases);
     free(s);
 }
 

@@ -95,9 +95,68 @@ static int run_divergence_check(mps2p_solver *s, double dt)
     return divergence_check(s, dt);
 }
 
+static int run_phases_start(mps2p_solver *s, double dt)
+{
+    (void)dt;
+    phases_step_start(s);
+    return MPS2P_OK;
+}
+
+static int run_interface_scan(mps2p_solver *s, double dt)
+{
+    (void)dt;
+    interface_scan(s);
+    return MPS2P_OK;
+}
+
+static int run_interface_join(mps2p_solver *s, double dt)
+{
+    (void)dt;
+    interface_join(s);
+    return MPS2P_OK;
+}
+
+static int run_liquid_pressure(mps2p_solver *s, double dt)
+{
+    return liquid_pressure_solve(s, dt);
+}
+
+static int run_gas_pressure(mps2p_solver *s, double dt)
+{
+    return gas_pressure_solve(s, dt);
+}
+
+static int run_two_phase_correction(mps2p_solver *s, double dt)
+{
+    phases_correct(s, dt);
+    return MPS2P_OK;
+}
+
+static int run_interface_drift(mps2p_solver *s, double dt)
+{
+    interface_drift_apply(s, dt);
+    return MPS2P_OK;
+}
+
+static int run_gas_divergence_check(mps2p_solver *s, double dt)
+{
+    return phases_divergence_check(s, dt);
+}
+
 static int uses_start_density(const mps2p_solver *s)
 {
     return s->params.ppe_source != PPE_SOURCE_DENSITY;
+}
+
+/* The single-phase pressure stages give way to the two phases' own. */
+static int single_phase(const mps2p_solver *s)
+{
+    return !s->effect_active[EFFECT_TWO_PHASE];
+}
+
+static int drift_reaction(const mps2p_solver *s)
+{
+    return s->params.interface_reaction == REACTION_DRIFT;
 }
 
 typedef struct stage_entry {
@@ -119,23 +178,42 @@ static const stage_entry stages[STAGE_COUNT] = {
     [STAGE_ADVECTION] = {"advection", -1, NULL, run_advection},
     [STAGE_COLLISION] = {"collision", EFFECT_COLLISION, NULL, run_collision},
     [STAGE_NUMBER_DENSITY] = {"number_density", -1, NULL, run_number_density},
-    [STAGE_FREE_SURFACE] = {"free_surface", -1, NULL, run_free_surface},
-    [STAGE_PRESSURE_ASSEMBLY] = {"pressure_assembly", -1, NULL, run_pressure_assembly},
-    [STAGE_PRESSURE_SOLVE] = {"pressure_solve", -1, NULL, run_pressure_solve},
-    [STAGE_CORRECTION] = {"correction", -1, NULL, run_correction},
+    [STAGE_FREE_SURFACE] = {"free_surface", -1, single_phase, run_free_surface},
+    [STAGE_PRESSURE_ASSEMBLY] = {"pressure_assembly", -1, single_phase, run_pressure_assembly},
+    [STAGE_PRESSURE_SOLVE] = {"pressure_solve", -1, single_phase, run_pressure_solve},
+    [STAGE_CORRECTION] = {"correction", -1, single_phase, run_correction},
     [STAGE_DIVERGENCE_CHECK] = {"divergence_check", -1, NULL, run_divergence_check},
+    [STAGE_PHASES_START] = {"phases_start", EFFECT_TWO_PHASE, NULL, run_phases_start},
+    [STAGE_INTERFACE_SCAN] = {"interface_scan", EFFECT_TWO_PHASE, NULL, run_interface_scan},
+    [STAGE_INTERFACE_JOIN] = {"interface_join", EFFECT_INTERFACE_REACTION, NULL,
+                              run_interface_join},
+    [STAGE_LIQUID_PRESSURE] = {"liquid_pressure", EFFECT_TWO_PHASE, NULL, run_liquid_pressure},
+    [STAGE_GAS_PRESSURE] = {"gas_pressure", EFFECT_TWO_PHASE, NULL, run_gas_pressure},
+    [STAGE_TWO_PHASE_CORRECTION] = {"two_phase_correction", EFFECT_TWO_PHASE, NULL,
+                                    run_two_phase_correction},
+    [STAGE_INTERFACE_DRIFT] = {"interface_drift", EFFECT_INTERFACE_REACTION, drift_reaction,
+                               run_interface_drift},
+    [STAGE_GAS_DIVERGENCE_CHECK] = {"gas_divergence_check", EFFECT_TWO_PHASE, NULL,
+                                    run_gas_divergence_check},
 };
 
 /* One MPS step (METHOD.md section 1, fig. 1 of the paper), in order. The
  * neighbour list is brought up to date after each stage that moves particles.
- * Host-moved walls move first, so that viscosity sees their velocity. */
+ * Host-moved walls move first, so that viscosity sees their velocity. With
+ * two phases (METHOD.md 2-3) the liquid's own n^k is taken at the start, and
+ * the free surface, PPE and correction are replaced by the sector scan, the
+ * liquid then the gas PPE and a correction per phase; the gas's own check
+ * runs before the general one (its message says more about a squeezed gas
+ * particle). */
 static const int sequence[] = {
-    STAGE_NEIGHBOURS,     STAGE_NUMBER_DENSITY_START, STAGE_BODY_MOTION,
-    STAGE_VISCOSITY,      STAGE_GRAVITY,              STAGE_EXTERNAL_FORCES,
-    STAGE_ADVECTION,      STAGE_NEIGHBOURS,
-    STAGE_COLLISION,      STAGE_NEIGHBOURS,           STAGE_NUMBER_DENSITY,
-    STAGE_FREE_SURFACE,   STAGE_PRESSURE_ASSEMBLY,    STAGE_PRESSURE_SOLVE,
-    STAGE_CORRECTION,     STAGE_DIVERGENCE_CHECK,
+    STAGE_NEIGHBOURS,       STAGE_NUMBER_DENSITY_START, STAGE_PHASES_START,
+    STAGE_BODY_MOTION,      STAGE_VISCOSITY,            STAGE_GRAVITY,
+    STAGE_EXTERNAL_FORCES,  STAGE_ADVECTION,            STAGE_NEIGHBOURS,
+    STAGE_COLLISION,        STAGE_NEIGHBOURS,           STAGE_NUMBER_DENSITY,
+    STAGE_FREE_SURFACE,     STAGE_PRESSURE_ASSEMBLY,    STAGE_PRESSURE_SOLVE,
+    STAGE_INTERFACE_SCAN,   STAGE_INTERFACE_JOIN,       STAGE_LIQUID_PRESSURE,
+    STAGE_GAS_PRESSURE,     STAGE_CORRECTION,           STAGE_TWO_PHASE_CORRECTION,
+    STAGE_INTERFACE_DRIFT,  STAGE_GAS_DIVERGENCE_CHECK, STAGE_DIVERGENCE_CHECK,
 };
 #define SEQUENCE_LENGTH (sizeof sequence / sizeof sequence[0])
 
@@ -170,6 +248,9 @@ int plan_build(mps2p_solver *s)
             return fail(NULL, MPS2P_ERR_NOMEM, "out of memory for %zu number densities",
                         s->count);
     }
+    if (s->effect_active[EFFECT_TWO_PHASE] && !s->phases && phases_init(s) != MPS2P_OK)
+        return fail(NULL, MPS2P_ERR_NOMEM, "out of memory for the two-phase state of %zu "
+                    "particles", s->count);
     return MPS2P_OK;
 }
 

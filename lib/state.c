@@ -97,6 +97,13 @@ int mps2p_solver_save_state(const mps2p_solver *s, mps2p_state **state)
     *state = NULL;
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_save_state: solver is NULL");
+    /* The two-phase state (join weights, joined flags, the liquid's initial
+     * number density) decides the next step and is not saved yet: a restore
+     * would not continue bit for bit, so refuse rather than diverge silently. */
+    if (s->phases)
+        return fail(NULL, MPS2P_ERR_STATE,
+                    "mps2p_solver_save_state: a two-phase solver (effect two_phase on) "
+                    "cannot save its state yet: its join weights and flags are not saved");
     mps2p_state *st = calloc(1, sizeof *st);
     if (st) {
         st->count = s->count;

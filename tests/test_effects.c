@@ -217,6 +217,123 @@ static void test_impossible_requests(void)
     mps2p_scene_destroy(scene);
 }
 
+/* Water and air (docs/two-phase.md) in a small tank: the air fluid's density
+ * is a parameter so that the same particles can be one heavy phase. */
+static mps2p_scene *water_air_scene(double air_density, const char *model)
+{
+    mps2p_scene *scene;
+    int water, air;
+    MUST(mps2p_scene_create(0.02, &scene));
+    MUST(mps2p_scene_add_fluid(scene, "water", 1000.0, 1e-6, &water));
+    MUST(mps2p_scene_add_fluid(scene, "air", air_density, 1.5e-5, &air));
+    if (model)
+        MUST(mps2p_scene_set_option(scene, "two_phase_model", model));
+    MUST(mps2p_scene_set_option(scene, "pressure_solver", "cg"));
+    MUST(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.0, 0.1, 0.2));
+    MUST(mps2p_scene_add_fluid_box(scene, air, 0.1, 0.0, 0.3, 0.3));
+    MUST(mps2p_scene_add_fluid_box(scene, air, 0.0, 0.2, 0.1, 0.3));
+    MUST(mps2p_scene_add_tank(scene, 0.0, 0.0, 0.3, 0.4, 1));
+    return scene;
+}
+
+/* Two phases are effects: inferred from a light fluid, their stages replace
+ * the single-phase pressure stages, their arrays exist only when on, and
+ * impossible requests and unsaved two-phase states are refused. */
+static void test_two_phase_effects(void)
+{
+    const char *reason = NULL;
+    int active = 0;
+    /* water only: off, no two-phase stage, no two-phase memory */
+    mps2p_solver *water = make(dam_break_scene(0.02));
+    CHECK(effect_active(water, "two_phase", &reason) == 0, "water only, two_phase on");
+    CHECK(reason && strstr(reason, "light_fraction"), "reason: %s", reason);
+    CHECK(effect_active(water, "interface_reaction", NULL) == 0, "water only, reaction on");
+    run_steps(water, 2);
+    CHECK(stage_calls(water, "liquid_pressure", &active) == 0 && !active, "liquid_pressure ran");
+    CHECK(stage_calls(water, "pressure_solve", &active) == 2 && active, "pressure_solve");
+    double value = -1.0;
+    MUST(mps2p_solver_get_stat(water, "two_phase_active", &value));
+    CHECK(value == 0.0, "two_phase_active %g for water only", value);
+    MUST(mps2p_solver_get_stat(water, "gas_triggered", &value));
+    CHECK(value == 0.0, "gas_triggered %g for water only", value);
+    mps2p_solver_destroy(water);
+
+    /* water and air: the improved model's stages, not the single-phase ones */
+    mps2p_solver *improved = make(water_air_scene(1.2, NULL));
+    CHECK(effect_active(improved, "two_phase", &reason) == 1, "air, two_phase off");
+    CHECK(reason && strstr(reason, "inferred"), "reason: %s", reason);
+    CHECK(effect_active(improved, "interface_reaction", NULL) == 1, "improved, reaction off");
+    run_steps(improved, 3);
+    const char *on[] = {"phases_start", "interface_scan", "interface_join", "liquid_pressure",
+                        "gas_pressure", "two_phase_correction", "interface_drift",
+                        "gas_divergence_check"};
+    for (size_t k = 0; k < sizeof on / sizeof on[0]; k++)
+        CHECK(stage_calls(improved, on[k], &active) == 3 && active, "%s not run", on[k]);
+    const char *off[] = {"free_surface", "pressure_assembly", "pressure_solve", "correction"};
+    for (size_t k = 0; k < sizeof off / sizeof off[0]; k++)
+        CHECK(stage_calls(improved, off[k], &active) == 0 && !active, "%s ran", off[k]);
+    MUST(mps2p_solver_get_stat(improved, "gas_ppe_unknowns", &value));
+    CHECK(value > 0.0, "no gas unknowns");
+    /* its join state is not saved yet: refused, not restarted differently */
+    mps2p_state *state = NULL;
+    CHECK(mps2p_solver_save_state(improved, &state) == MPS2P_ERR_STATE && !state,
+          "a two-phase state was saved");
+    CHECK(mps2p_solver_save_checkpoint(improved, "never-written.h5") == MPS2P_ERR_STATE,
+          "a two-phase checkpoint was written");
+    mps2p_solver_destroy(improved);
+
+    /* the conventional model: two phases, no reaction */
+    mps2p_solver *two_step = make(water_air_scene(1.2, "two_step"));
+    CHECK(effect_active(two_step, "two_phase", NULL) == 1, "two_step, two_phase off");
+    CHECK(effect_active(two_step, "interface_reaction", &reason) == 0, "two_step, reaction on");
+    CHECK(reason && strstr(reason, "two_step"), "reason: %s", reason);
+    mps2p_solver_destroy(two_step);
+
+    /* memory: "single" holds exactly what the same particles as one heavy
+     * phase hold; the two-phase arrays come only with the effect */
+    mps2p_solver *single = make(water_air_scene(1.2, "single"));
+    mps2p_solver *heavy = make(water_air_scene(500.0, NULL));
+    mps2p_solver *two = make(water_air_scene(1.2, NULL));
+    CHECK(effect_active(single, "two_phase", &reason) == 0, "single, two_phase on");
+    CHECK(reason && strstr(reason, "single"), "reason: %s", reason);
+    double bytes_single, bytes_heavy, bytes_two;
+    size_t n;
+    MUST(mps2p_solver_particle_count(two, &n));
+    MUST(mps2p_solver_get_stat(single, "memory_bytes", &bytes_single));
+    MUST(mps2p_solver_get_stat(heavy, "memory_bytes", &bytes_heavy));
+    MUST(mps2p_solver_get_stat(two, "memory_bytes", &bytes_two));
+    CHECK(bytes_single == bytes_heavy, "memory %g (single) != %g (one heavy phase)",
+          bytes_single, bytes_heavy);
+    CHECK(bytes_two - bytes_single >= (9.0 + 11.0 * 8.0) * (double)n,
+          "two-phase memory %g - %g is less than its arrays for %zu particles", bytes_two,
+          bytes_single, n);
+    mps2p_solver_destroy(single);
+    mps2p_solver_destroy(heavy);
+    mps2p_solver_destroy(two);
+
+    /* impossible requests, with the reason */
+    struct {
+        mps2p_scene *scene;
+        const char *option, *words;
+    } refused[] = {
+        {dam_break_scene(0.02), "effect.two_phase", "light_fraction"},
+        {water_air_scene(1.2, "single"), "effect.two_phase", "single"},
+        {water_air_scene(1.2, "two_step"), "effect.interface_reaction", "two_step"},
+        {dam_break_scene(0.02), "effect.interface_reaction", "two_phase is off"},
+    };
+    for (size_t k = 0; k < sizeof refused / sizeof refused[0]; k++) {
+        MUST(mps2p_scene_set_option(refused[k].scene, refused[k].option, "on"));
+        mps2p_solver *solver = NULL;
+        int status = mps2p_solver_create(refused[k].scene, &solver);
+        CHECK(status == MPS2P_ERR_INVALID && !solver, "%s on: status %d", refused[k].option,
+              status);
+        CHECK(strstr(mps2p_last_error(), refused[k].words) &&
+                  strstr(mps2p_last_error(), "cannot support"),
+              "message: %s", mps2p_last_error());
+        mps2p_scene_destroy(refused[k].scene);
+    }
+}
+
 /* Every effect inferred and every effect requested give the same bits. */
 static void test_inferred_equals_requested(void)
 {
@@ -250,5 +367,6 @@ int main(void)
     test_quiescent_without_viscosity();
     test_impossible_requests();
     test_inferred_equals_requested();
+    test_two_phase_effects();
     return check_summary("test_effects");
 }
