@@ -160,6 +160,7 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *                                 L the largest side of the initial particles' box
  *   displacement_limit      1.0   a particle moving farther in one step
  *                                 means diverged, in l0; 0 = no check
+ *   smagorinsky_constant    0.1   Cs of effect.turbulence: nu_t = (Cs l0)^2 |S|
  *   neighbour_skin          0.4   extra radius of the neighbour list, in l0
  * mps2p_param_info() lists them at run time. */
 MPS2P_API int mps2p_scene_set_param(mps2p_scene *scene, const char *key, double value);
@@ -185,6 +186,9 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  *                     MPS2P_ERR_INVALID if the scene cannot support it);
  *                     "off": left out. An effect that is off costs nothing:
  *                     its stages are not in the step.
+ *   effect.turbulence "auto" and "off": off; "on": a sub-particle-scale eddy
+ *                     viscosity (Smagorinsky, smagorinsky_constant), a
+ *                     stage after the viscous one; possible in any scene
  *   effect.two_phase  "auto": on when a fluid is light (density below
  *                     light_fraction of the heaviest) and two_phase_model is
  *                     not "single": the two-step pressure (liquid PPE, then
@@ -282,6 +286,8 @@ MPS2P_API int mps2p_solver_get_last_dt(const mps2p_solver *solver, double *dt);
  *   neighbour_builds   times the neighbour list was built so far
  *   ppe_iterations_total  CG iterations of all solves so far
  *   dt_next            the time step the next mps2p_solver_step would take (s)
+ *   eddy_viscosity_max largest eddy viscosity of the last step (m^2/s; 0
+ *                      unless effect.turbulence is on)
  *   ppe_analyses       CHOLMOD symbolic analyses so far (a pressure matrix with
  *                      the previous one's pattern reuses its analysis; 0 for cg)
  *   memory_bytes       memory the solver holds (arrays, lists, matrix, solver

@@ -71,9 +71,25 @@ static int interface_reaction_needed(const mps2p_solver *s, char *why, size_t si
     return 1;
 }
 
+/* Nothing in a scene calls for a turbulence model: it is the user's choice,
+ * possible in any scene with fluid. */
+static int turbulence_needed(const mps2p_solver *s, char *why, size_t size)
+{
+    snprintf(why, size, "eddy viscosity (Smagorinsky, Cs = %g) only when asked for",
+             s->params.smagorinsky_constant);
+    return 0;
+}
+
+static int always_possible(const mps2p_solver *s)
+{
+    (void)s;
+    return 1;
+}
+
 typedef struct effect_entry {
     const char *name; /* its option is "effect.<name>" */
     needed_fn needed;
+    int (*possible)(const mps2p_solver *s); /* may be switched on though not needed */
 } effect_entry;
 
 static const effect_entry effects[EFFECT_COUNT] = {
@@ -82,6 +98,7 @@ static const effect_entry effects[EFFECT_COUNT] = {
     [EFFECT_COLLISION] = {"collision", collision_needed},
     [EFFECT_TWO_PHASE] = {"two_phase", two_phase_needed},
     [EFFECT_INTERFACE_REACTION] = {"interface_reaction", interface_reaction_needed},
+    [EFFECT_TURBULENCE] = {"turbulence", turbulence_needed, always_possible},
 };
 
 const char *effect_name(int effect)
@@ -95,7 +112,8 @@ int effects_decide(mps2p_solver *s)
         char why[EFFECT_REASON_SIZE - 32];
         int needed = effects[e].needed(s, why, sizeof why);
         int mode = s->params.effect_mode[e];
-        if (mode == EFFECT_ON && !needed)
+        int possible = needed || (effects[e].possible && effects[e].possible(s));
+        if (mode == EFFECT_ON && !possible)
             return fail(NULL, MPS2P_ERR_INVALID,
                         "effect %s is switched on, but the scene cannot support it: %s",
                         effects[e].name, why);

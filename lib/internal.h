@@ -47,6 +47,7 @@ enum effect_id {
     EFFECT_COLLISION,
     EFFECT_TWO_PHASE,          /* two-step pressure, liquid and gas (METHOD.md 2) */
     EFFECT_INTERFACE_REACTION, /* gas acting back on the liquid (METHOD.md 3); needs two_phase */
+    EFFECT_TURBULENCE,         /* Smagorinsky eddy viscosity; only when requested */
     EFFECT_COUNT
 };
 enum effect_mode { EFFECT_AUTO = 0, EFFECT_ON = 1, EFFECT_OFF = 2 };
@@ -88,6 +89,7 @@ typedef struct params {
     int two_phase_model;
     int interface_reaction;
     int effect_mode[EFFECT_COUNT];
+    double smagorinsky_constant;
 } params;
 
 void params_set_defaults(params *p);
@@ -227,6 +229,7 @@ enum stage_id {
     STAGE_TWO_PHASE_CORRECTION,
     STAGE_INTERFACE_DRIFT,
     STAGE_GAS_DIVERGENCE_CHECK,
+    STAGE_TURBULENCE,
     STAGE_COUNT
 };
 #define PLAN_CAPACITY 32
@@ -336,6 +339,10 @@ struct mps2p_solver {
     int diverged;
     char error[ERROR_MESSAGE_SIZE];
 
+    /* turbulence (turbulence.c): allocated only when the effect is on */
+    double *eddy_viscosity;
+    double eddy_viscosity_max;
+
     /* the step, assembled from the effects the scene needs (stages.c) */
     int effect_active[EFFECT_COUNT];
     char effect_reason[EFFECT_COUNT][EFFECT_REASON_SIZE];
@@ -392,6 +399,9 @@ void gradient_at(const mps2p_solver *s, size_t i, const double *field, double re
                  double out[2]);
 /* min(f_i, min_j f_j) over non-dummy neighbours within the density radius. */
 double minimum_around(const mps2p_solver *s, size_t i, const double *field);
+/* gradient_at of component c of an interleaved 2-vector field, f_i as reference. */
+void gradient_at_component(const mps2p_solver *s, size_t i, const double *field, int c,
+                           double out[2]);
 /* The same, over the neighbours j with mask[j] != 0 only (NULL = as above):
  * each phase of a two-phase step sees only its own particles. */
 void gradient_masked_at(const mps2p_solver *s, size_t i, const double *field, double reference,
@@ -413,6 +423,7 @@ void laplacian_at(const mps2p_solver *s, size_t i, const double *field, size_t c
 double timestep_choose(const mps2p_solver *s);                   /* timestep.c */
 void viscosity_apply(mps2p_solver *s, double dt);                 /* explicit_forces.c */
 void gravity_apply(mps2p_solver *s, double dt);                   /* explicit_forces.c */
+void turbulence_apply(mps2p_solver *s, double dt);                /* turbulence.c */
 void advect(mps2p_solver *s, double dt);                          /* explicit_forces.c */
 void collision_apply(mps2p_solver *s, double dt);                 /* collision.c */
 void number_density_compute(mps2p_solver *s, double *out);                     /* number_density.c */

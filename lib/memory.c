@@ -14,6 +14,8 @@ size_t solver_memory_bytes(const mps2p_solver *s)
     bytes += n * sizeof *s->number_density;
     if (s->number_density_start)
         bytes += n * sizeof *s->number_density_start;
+    if (s->eddy_viscosity)
+        bytes += n * sizeof *s->eddy_viscosity;
     bytes += phases_memory_bytes(s); /* 0 unless effect two_phase is on */
     const neighbour_list *nl = &s->neighbours;
     bytes += (nl->count + 1) * sizeof *nl->start + nl->capacity * sizeof *nl->index;

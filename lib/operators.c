@@ -69,6 +69,31 @@ int corrective_matrix_at(const mps2p_solver *s, size_t i, double inverse[3])
     return 1;
 }
 
+void gradient_at_component(const mps2p_solver *s, size_t i, const double *field, int c,
+                           double out[2])
+{
+    const double re = s->params.re_density * s->l0, re2 = re * re;
+    const neighbour_list *nl = &s->neighbours;
+    const double *position = s->state.position;
+    const double reference = field[2 * i + c];
+    double gx = 0.0, gy = 0.0;
+    for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
+        size_t j = nl->index[k];
+        if (s->kind[j] == MPS2P_KIND_DUMMY)
+            continue;
+        double dx = position[2 * j] - position[2 * i];
+        double dy = position[2 * j + 1] - position[2 * i + 1];
+        double r2 = dx * dx + dy * dy;
+        if (r2 >= re2 || r2 <= 0.0)
+            continue;
+        double f = (field[2 * j + c] - reference) / r2 * kernel_weight(sqrt(r2), re);
+        gx += f * dx;
+        gy += f * dy;
+    }
+    out[0] = 2.0 / s->n0_density * gx;
+    out[1] = 2.0 / s->n0_density * gy;
+}
+
 double minimum_around(const mps2p_solver *s, size_t i, const double *field)
 {
     return minimum_masked_around(s, i, field, NULL);

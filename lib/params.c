@@ -49,6 +49,8 @@ static const param_entry table[] = {
      "|p| above it means diverged (Pa); 0 = 1000 rho_max max(|g| L, 1 m^2/s^2)"},
     {"displacement_limit", FIELD(displacement_limit), 1.0, 0.0, BIG,
      "a particle moving farther in one step means diverged, in l0; 0 = no check"},
+    {"smagorinsky_constant", FIELD(smagorinsky_constant), 0.1, 0.0, 1.0,
+     "Cs of the turbulence effect's eddy viscosity (Cs l0)^2 |S|"},
     {"neighbour_skin", FIELD(neighbour_skin), 0.4, 0.0, 5.0,
      "extra radius of the neighbour list, in l0"},
     /* two phases (docs/two-phase.md): read only when effect two_phase is on */
@@ -181,6 +183,7 @@ static const option_entry options[] = {
     EFFECT_OPTION("effect.collision", EFFECT_COLLISION),
     EFFECT_OPTION("effect.two_phase", EFFECT_TWO_PHASE),
     EFFECT_OPTION("effect.interface_reaction", EFFECT_INTERFACE_REACTION),
+    EFFECT_OPTION("effect.turbulence", EFFECT_TURBULENCE),
 #undef EFFECT_OPTION
 };
 

@@ -161,6 +161,8 @@ int mps2p_solver_get_stat(const mps2p_solver *s, const char *key, double *value)
         *value = (double)s->ppe_iterations_total;
     else if (!strcmp(key, "ppe_analyses"))
         *value = (double)linear_solver_analyses(s->linear);
+    else if (!strcmp(key, "eddy_viscosity_max"))
+        *value = s->eddy_viscosity_max;
     else if (!strcmp(key, "dt_next"))
         *value = timestep_choose(s);
     else if (!strcmp(key, "memory_bytes"))

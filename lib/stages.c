@@ -41,6 +41,12 @@ static int run_viscosity(mps2p_solver *s, double dt)
     return MPS2P_OK;
 }
 
+static int run_turbulence(mps2p_solver *s, double dt)
+{
+    turbulence_apply(s, dt);
+    return MPS2P_OK;
+}
+
 static int run_gravity(mps2p_solver *s, double dt)
 {
     gravity_apply(s, dt);
@@ -193,6 +199,7 @@ static const stage_entry stages[STAGE_COUNT] = {
                                     run_two_phase_correction},
     [STAGE_INTERFACE_DRIFT] = {"interface_drift", EFFECT_INTERFACE_REACTION, drift_reaction,
                                run_interface_drift},
+    [STAGE_TURBULENCE] = {"turbulence", EFFECT_TURBULENCE, NULL, run_turbulence},
     [STAGE_GAS_DIVERGENCE_CHECK] = {"gas_divergence_check", EFFECT_TWO_PHASE, NULL,
                                     run_gas_divergence_check},
 };
@@ -207,7 +214,8 @@ static const stage_entry stages[STAGE_COUNT] = {
  * particle). */
 static const int sequence[] = {
     STAGE_NEIGHBOURS,       STAGE_NUMBER_DENSITY_START, STAGE_PHASES_START,
-    STAGE_BODY_MOTION,      STAGE_VISCOSITY,            STAGE_GRAVITY,
+    STAGE_BODY_MOTION,      STAGE_VISCOSITY,            STAGE_TURBULENCE,
+    STAGE_GRAVITY,
     STAGE_EXTERNAL_FORCES,  STAGE_ADVECTION,            STAGE_NEIGHBOURS,
     STAGE_COLLISION,        STAGE_NEIGHBOURS,           STAGE_NUMBER_DENSITY,
     STAGE_FREE_SURFACE,     STAGE_PRESSURE_ASSEMBLY,    STAGE_PRESSURE_SOLVE,
@@ -242,6 +250,12 @@ int plan_build(mps2p_solver *s)
     for (int stage = 0; stage < STAGE_COUNT; stage++)
         s->stage_active[stage] = stage_active(s, stage);
     /* arrays of stages that are off are never allocated */
+    if (s->stage_active[STAGE_TURBULENCE] && !s->eddy_viscosity) {
+        s->eddy_viscosity = calloc(s->count, sizeof *s->eddy_viscosity);
+        if (!s->eddy_viscosity)
+            return fail(NULL, MPS2P_ERR_NOMEM, "out of memory for %zu eddy viscosities",
+                        s->count);
+    }
     if (s->stage_active[STAGE_NUMBER_DENSITY_START] && !s->number_density_start) {
         s->number_density_start = calloc(s->count, sizeof *s->number_density_start);
         if (!s->number_density_start)

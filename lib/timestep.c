@@ -18,7 +18,11 @@ double timestep_choose(const mps2p_solver *s)
     }
     if (max_speed2 > 0.0)
         dt = fmin(dt, s->params.cfl * s->l0 / sqrt(max_speed2));
-    if (max_viscosity > 0.0 && s->effect_active[EFFECT_VISCOSITY])
+    if (!s->effect_active[EFFECT_VISCOSITY])
+        max_viscosity = 0.0;
+    if (s->effect_active[EFFECT_TURBULENCE]) /* the eddy viscosity of the last step */
+        max_viscosity += s->eddy_viscosity_max;
+    if (max_viscosity > 0.0)
         dt = fmin(dt, s->params.diffusion_number * s->l0 * s->l0 / max_viscosity);
     return dt;
 }

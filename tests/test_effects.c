@@ -359,6 +359,75 @@ static void test_inferred_equals_requested(void)
     mps2p_solver_destroy(requested);
 }
 
+/* A free block of water moving uniformly, no gravity: no shear, so the
+ * eddy viscosity is exactly zero and turbulence on gives the bits of off. */
+static mps2p_scene *sliding_block(const char *turbulence)
+{
+    mps2p_scene *scene;
+    int water;
+    MUST(mps2p_scene_create(0.02, &scene));
+    MUST(mps2p_scene_add_fluid(scene, "water", 1000.0, 1e-6, &water));
+    MUST(mps2p_scene_set_param(scene, "gravity_y", 0.0));
+    MUST(mps2p_scene_set_option(scene, "effect.turbulence", turbulence));
+    double positions[2 * 100], velocities[2 * 100];
+    int kinds[100], ids[100];
+    for (int k = 0; k < 100; k++) {
+        positions[2 * k] = 0.02 * (k % 10 + 0.5);
+        positions[2 * k + 1] = 0.02 * (k / 10 + 0.5);
+        velocities[2 * k] = 0.1;
+        velocities[2 * k + 1] = -0.05;
+        kinds[k] = MPS2P_KIND_FLUID;
+        ids[k] = water;
+    }
+    MUST(mps2p_scene_add_particles(scene, 100, positions, velocities, kinds, ids));
+    return scene;
+}
+
+/* Turbulence is off unless asked for; on, it runs, costs its array, acts
+ * on shear only. */
+static void test_turbulence(void)
+{
+    mps2p_solver *off = make(dam_break_scene(0.02));
+    const char *reason;
+    CHECK(effect_active(off, "turbulence", &reason) == 0, "turbulence on by default");
+    CHECK(strstr(reason, "inferred") && strstr(reason, "only when asked"), "reason: %s", reason);
+    mps2p_scene *scene = dam_break_scene(0.02);
+    MUST(mps2p_scene_set_option(scene, "effect.turbulence", "on"));
+    mps2p_solver *on = make(scene);
+    CHECK(effect_active(on, "turbulence", &reason) == 1 && strstr(reason, "requested"),
+          "turbulence switched on: %s", reason);
+    double bytes_on, bytes_off, eddy;
+    size_t n;
+    MUST(mps2p_solver_particle_count(on, &n));
+    MUST(mps2p_solver_get_stat(on, "memory_bytes", &bytes_on));
+    MUST(mps2p_solver_get_stat(off, "memory_bytes", &bytes_off));
+    CHECK(bytes_on - bytes_off == 8.0 * (double)n, "turbulence memory %g - %g for %zu particles",
+          bytes_on, bytes_off, n);
+    MUST(mps2p_solver_advance_to(on, 0.2, NULL, NULL));
+    MUST(mps2p_solver_advance_to(off, 0.2, NULL, NULL));
+    MUST(mps2p_solver_get_stat(on, "eddy_viscosity_max", &eddy));
+    uint64_t steps;
+    MUST(mps2p_solver_get_step_count(on, &steps));
+    CHECK(stage_calls(on, "turbulence", NULL) == steps, "turbulence stage calls");
+    CHECK(stage_calls(off, "turbulence", NULL) == 0, "turbulence ran while off");
+    /* (Cs l0)^2 |S| with |S| of order the collapse's shear, u/l0 ~ 100 /s */
+    CHECK(eddy > 1e-7 && eddy < 1e-3, "eddy viscosity %g m^2/s in a dam break", eddy);
+    mps2p_solver_destroy(on);
+    mps2p_solver_destroy(off);
+
+    mps2p_solver *still_on = make(sliding_block("on")), *still_off = make(sliding_block("off"));
+    MUST(mps2p_solver_advance_to(still_on, 0.05, NULL, NULL));
+    MUST(mps2p_solver_advance_to(still_off, 0.05, NULL, NULL));
+    MUST(mps2p_solver_get_stat(still_on, "eddy_viscosity_max", &eddy));
+    CHECK(eddy == 0.0, "uniform motion has eddy viscosity %g", eddy);
+    double a[200], b[200];
+    MUST(mps2p_solver_get_velocities(still_on, a, 200));
+    MUST(mps2p_solver_get_velocities(still_off, b, 200));
+    CHECK(memcmp(a, b, sizeof a) == 0, "turbulence changed a shear-free flow");
+    mps2p_solver_destroy(still_on);
+    mps2p_solver_destroy(still_off);
+}
+
 int main(void)
 {
     test_inferred_effects();
@@ -368,5 +437,6 @@ int main(void)
     test_impossible_requests();
     test_inferred_equals_requested();
     test_two_phase_effects();
+    test_turbulence();
     return check_summary("test_effects");
 }
