@@ -5,7 +5,12 @@
  * and the cost of each effect as the difference of the runs; and what timing
  * the stages costs (two clock reads per stage).
  *
- *   effects [l0 [end_time [repeats]]]
+ *   effects [l0 [end_time [repeats [water|air]]]]
+ *
+ * "air" runs the paper's case instead (examples/scenes/ikari2003_dam_break_air
+ * .toml: water and air, the two-phase prototype, dt 2e-4 s, CG), and its
+ * variants switch off viscosity, collision and the interface reaction, and
+ * switch turbulence on.
  *
  * The fastest of `repeats` runs is reported (a shared machine is noisy). */
 #include <mps2p.h>
@@ -38,18 +43,36 @@ static double now(void)
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-static run_result run(double l0, double end, const char *off)
+static int with_air = 0;
+
+static mps2p_scene *paper_scene(double l0)
 {
     mps2p_scene *scene;
-    int water;
+    int water, air;
     check(mps2p_scene_create(l0, &scene), "scene");
     check(mps2p_scene_add_fluid(scene, "water", 1000.0, 1e-6, &water), "fluid");
     check(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.0, 0.15, 0.3), "column");
-    check(mps2p_scene_add_tank(scene, 0.0, 0.0, 0.6, 0.7, 1), "tank");
+    if (with_air) {
+        check(mps2p_scene_add_fluid(scene, "air", 1.2, 1.5e-5, &air), "air");
+        check(mps2p_scene_add_fluid_box(scene, air, 0.15, 0.0, 0.6, 0.7), "air right");
+        check(mps2p_scene_add_fluid_box(scene, air, 0.0, 0.3, 0.15, 0.7), "air above");
+        check(mps2p_scene_set_param(scene, "dt", 2e-4), "dt");
+        check(mps2p_scene_set_option(scene, "pressure_solver", "cg"), "solver");
+        check(mps2p_scene_add_tank(scene, 0.0, 0.0, 0.6, 0.8, 1), "tank");
+    } else {
+        check(mps2p_scene_add_tank(scene, 0.0, 0.0, 0.6, 0.7, 1), "tank");
+    }
+    return scene;
+}
+
+/* "name" switches effect.name off; "+name" switches it on. */
+static run_result run(double l0, double end, const char *off)
+{
+    mps2p_scene *scene = paper_scene(l0);
     if (off) {
         char key[64];
-        snprintf(key, sizeof key, "effect.%s", off);
-        check(mps2p_scene_set_option(scene, key, "off"), key);
+        snprintf(key, sizeof key, "effect.%s", off[0] == '+' ? off + 1 : off);
+        check(mps2p_scene_set_option(scene, key, off[0] == '+' ? "on" : "off"), key);
     }
     mps2p_solver *solver;
     check(mps2p_solver_create(scene, &solver), "solver");
@@ -85,34 +108,48 @@ int main(int argc, char **argv)
     double l0 = argc > 1 ? atof(argv[1]) : 0.01;
     double end = argc > 2 ? atof(argv[2]) : 0.3;
     int repeats = argc > 3 ? atoi(argv[3]) : 3;
-    const char *effects[] = {NULL, "viscosity", "collision", "gravity"};
-    const char *labels[] = {"all inferred", "viscosity off", "collision off", "gravity off"};
-    run_result results[4];
-    for (int e = 0; e < 4; e++)
+    with_air = argc > 4 && strcmp(argv[4], "air") == 0;
+    const char *water_effects[] = {NULL, "viscosity", "collision", "gravity"};
+    const char *water_labels[] = {"all inferred", "viscosity off", "collision off",
+                                  "gravity off"};
+    const char *air_effects[] = {NULL, "viscosity", "collision", "interface_reaction",
+                                 "+turbulence"};
+    const char *air_labels[] = {"all inferred", "viscosity off", "collision off",
+                                "interface_reaction off", "turbulence on"};
+    const char **effects = with_air ? air_effects : water_effects;
+    const char **labels = with_air ? air_labels : water_labels;
+    const int variants = with_air ? 5 : 4;
+    run_result results[5];
+    for (int e = 0; e < variants; e++)
         results[e] = fastest(l0, end, effects[e], repeats);
 
     /* stage names, from a throw-away solver */
-    mps2p_scene *scene;
-    int water;
-    check(mps2p_scene_create(l0, &scene), "scene");
-    check(mps2p_scene_add_fluid(scene, "water", 1000.0, 1e-6, &water), "fluid");
-    check(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.0, 0.15, 0.3), "column");
+    mps2p_scene *scene = paper_scene(l0);
     mps2p_solver *solver;
     check(mps2p_solver_create(scene, &solver), "solver");
     mps2p_scene_destroy(scene);
     size_t stages;
     check(mps2p_solver_stage_count(solver, &stages), "stages");
 
-    printf("Water-only dam break, l0 = %g m, to t = %g s, fastest of %d runs, "
-           "microseconds per step:\n\n| stage |", l0, end, repeats);
-    for (int e = 0; e < 4; e++)
+    printf("%s, l0 = %g m, to t = %g s, fastest of %d runs, microseconds per step:\n\n"
+           "| stage |", with_air ? "The paper's dam break with air (two-phase prototype)"
+                                  : "Water-only dam break", l0, end, repeats);
+    for (int e = 0; e < variants; e++)
         printf(" %s |", labels[e]);
-    printf("\n|---|---|---|---|---|\n");
+    printf("\n|---|");
+    for (int e = 0; e < variants; e++)
+        printf("---|");
+    printf("\n");
     for (size_t k = 0; k < stages; k++) {
         const char *name;
         check(mps2p_solver_get_stage(solver, k, &name, NULL, NULL, NULL), "stage");
+        int any = 0;
+        for (int e = 0; e < variants; e++)
+            any |= results[e].active[k];
+        if (!any)
+            continue; /* a stage no variant runs */
         printf("| %s |", name);
-        for (int e = 0; e < 4; e++) {
+        for (int e = 0; e < variants; e++) {
             const run_result *r = &results[e];
             if (r->active[k])
                 printf(" %.1f |", 1e6 * r->per_stage[k] / (double)r->steps);
@@ -122,13 +159,13 @@ int main(int argc, char **argv)
         printf("\n");
     }
     printf("| **total per step** |");
-    for (int e = 0; e < 4; e++)
+    for (int e = 0; e < variants; e++)
         printf(" **%.1f** |", 1e6 * results[e].total / (double)results[e].steps);
     printf("\n| steps |");
-    for (int e = 0; e < 4; e++)
+    for (int e = 0; e < variants; e++)
         printf(" %llu |", (unsigned long long)results[e].steps);
     printf("\n| solver memory (bytes) |");
-    for (int e = 0; e < 4; e++)
+    for (int e = 0; e < variants; e++)
         printf(" %.0f |", results[e].memory);
     printf("\n\nCost of each effect per step: its own stage in the all-inferred run, and the "
            "whole step with it minus without it\n(the second also holds what the effect does "
@@ -136,17 +173,21 @@ int main(int argc, char **argv)
            "| effect | own stage (us/step) | share of the step | step with minus without "
            "(us) |\n|---|---|---|---|\n");
     double with = 1e6 * results[0].total / (double)results[0].steps;
-    for (int e = 1; e < 4; e++) {
+    for (int e = 1; e < variants; e++) {
+        const char *effect = effects[e][0] == '+' ? effects[e] + 1 : effects[e];
         double own = 0.0;
         for (size_t k = 0; k < stages; k++) {
             const char *name;
             check(mps2p_solver_get_stage(solver, k, &name, NULL, NULL, NULL), "stage");
-            if (strcmp(name, effects[e]) == 0)
-                own = 1e6 * results[0].per_stage[k] / (double)results[0].steps;
+            int on_run = effects[e][0] == '+' ? e : 0; /* where the effect is on */
+            if (strcmp(name, effect) == 0 ||
+                (strcmp(effect, "interface_reaction") == 0 &&
+                 (strcmp(name, "interface_join") == 0 || strcmp(name, "interface_drift") == 0)))
+                own += 1e6 * results[on_run].per_stage[k] / (double)results[on_run].steps;
         }
-        double without = 1e6 * results[e].total / (double)results[e].steps;
-        printf("| %s | %.1f | %.1f %% | %.1f |\n", effects[e], own, 100.0 * own / with,
-               with - without);
+        double other = 1e6 * results[e].total / (double)results[e].steps;
+        double on = effects[e][0] == '+' ? other : with, off = effects[e][0] == '+' ? with : other;
+        printf("| %s | %.1f | %.1f %% | %.1f |\n", effect, own, 100.0 * own / on, on - off);
     }
 
     /* what the stage timers cost: two clock reads per stage per step */
