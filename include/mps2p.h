@@ -160,6 +160,8 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *                                 L the largest side of the initial particles' box
  *   displacement_limit      1.0   a particle moving farther in one step
  *                                 means diverged, in l0; 0 = no check
+ *   beta_count              0.85  free_surface "neighbour_count": surface below
+ *                                 beta_count N0 neighbours within re_density
  *   smagorinsky_constant    0.1   Cs of effect.turbulence: nu_t = (Cs l0)^2 |S|
  *   neighbour_skin          0.4   extra radius of the neighbour list, in l0
  * mps2p_param_info() lists them at run time. */
@@ -186,6 +188,9 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  *                     MPS2P_ERR_INVALID if the scene cannot support it);
  *                     "off": left out. An effect that is off costs nothing:
  *                     its stages are not in the step.
+ *   free_surface      "number_density" (default): n* < beta n0 (METHOD.md);
+ *                     "neighbour_count": that, or fewer neighbours than
+ *                     beta_count N0 (its own stage, neighbour_count)
  *   effect.turbulence "auto" and "off": off; "on": a sub-particle-scale eddy
  *                     viscosity (Smagorinsky, smagorinsky_constant), a
  *                     stage after the viscous one; possible in any scene

@@ -22,6 +22,7 @@ int fail(char *handle_buffer, int status, const char *format, ...)
 
 enum pressure_solver_kind { PRESSURE_SOLVER_CHOLMOD = 0, PRESSURE_SOLVER_CG = 1 };
 enum pressure_gradient_kind { GRADIENT_MINIMUM = 0, GRADIENT_CORRECTED = 1 };
+enum free_surface_kind { FREE_SURFACE_NUMBER_DENSITY = 0, FREE_SURFACE_NEIGHBOUR_COUNT = 1 };
 enum ppe_source_kind { PPE_SOURCE_DENSITY = 0, PPE_SOURCE_MIXED = 1, PPE_SOURCE_ECS = 2 };
 /* Two-phase model (effects two_phase and interface_reaction, phases.c). */
 enum two_phase_model_kind {
@@ -86,10 +87,12 @@ typedef struct params {
     int pressure_solver;
     int pressure_gradient;
     int ppe_source;
+    int free_surface;
     int two_phase_model;
     int interface_reaction;
     int effect_mode[EFFECT_COUNT];
     double smagorinsky_constant;
+    double beta_count;
 } params;
 
 void params_set_defaults(params *p);
@@ -230,6 +233,7 @@ enum stage_id {
     STAGE_INTERFACE_DRIFT,
     STAGE_GAS_DIVERGENCE_CHECK,
     STAGE_TURBULENCE,
+    STAGE_NEIGHBOUR_COUNT,
     STAGE_COUNT
 };
 #define PLAN_CAPACITY 32
@@ -342,6 +346,8 @@ struct mps2p_solver {
     /* turbulence (turbulence.c): allocated only when the effect is on */
     double *eddy_viscosity;
     double eddy_viscosity_max;
+    /* free_surface "neighbour_count" (free_surface.c): allocated only then */
+    unsigned *neighbour_count;
 
     /* the step, assembled from the effects the scene needs (stages.c) */
     int effect_active[EFFECT_COUNT];
@@ -428,6 +434,7 @@ void advect(mps2p_solver *s, double dt);                          /* explicit_fo
 void collision_apply(mps2p_solver *s, double dt);                 /* collision.c */
 void number_density_compute(mps2p_solver *s, double *out);                     /* number_density.c */
 void free_surface_detect(mps2p_solver *s);                        /* free_surface.c */
+void neighbour_count_compute(mps2p_solver *s);                    /* free_surface.c */
 int pressure_assemble(mps2p_solver *s, double dt);                /* pressure.c */
 int pressure_solve(mps2p_solver *s);                              /* pressure.c */
 /* One PPE over a subset of the particles (pressure.c), for the two phases'

@@ -16,6 +16,8 @@ size_t solver_memory_bytes(const mps2p_solver *s)
         bytes += n * sizeof *s->number_density_start;
     if (s->eddy_viscosity)
         bytes += n * sizeof *s->eddy_viscosity;
+    if (s->neighbour_count)
+        bytes += n * sizeof *s->neighbour_count;
     bytes += phases_memory_bytes(s); /* 0 unless effect two_phase is on */
     const neighbour_list *nl = &s->neighbours;
     bytes += (nl->count + 1) * sizeof *nl->start + nl->capacity * sizeof *nl->index;

@@ -49,6 +49,8 @@ static const param_entry table[] = {
      "|p| above it means diverged (Pa); 0 = 1000 rho_max max(|g| L, 1 m^2/s^2)"},
     {"displacement_limit", FIELD(displacement_limit), 1.0, 0.0, BIG,
      "a particle moving farther in one step means diverged, in l0; 0 = no check"},
+    {"beta_count", FIELD(beta_count), 0.85, 0.0, 1.0,
+     "free_surface \"neighbour_count\": surface below beta_count N0 neighbours"},
     {"smagorinsky_constant", FIELD(smagorinsky_constant), 0.1, 0.0, 1.0,
      "Cs of the turbulence effect's eddy viscosity (Cs l0)^2 |S|"},
     {"neighbour_skin", FIELD(neighbour_skin), 0.4, 0.0, 5.0,
@@ -105,6 +107,7 @@ void params_set_defaults(params *p)
     p->pressure_solver = PRESSURE_SOLVER_CHOLMOD;
     p->pressure_gradient = GRADIENT_MINIMUM;
     p->ppe_source = PPE_SOURCE_DENSITY;
+    p->free_surface = FREE_SURFACE_NUMBER_DENSITY;
     p->two_phase_model = TWO_PHASE_IMPROVED;
     /* Provisional (docs/two-phase.md): the form that ran longest on the
      * paper's case; none of the forms meets issue 9 yet. */
@@ -172,6 +175,7 @@ static const option_entry options[] = {
     {"pressure_solver", offsetof(params, pressure_solver), {"cholmod", "cg", NULL}},
     {"pressure_gradient", offsetof(params, pressure_gradient), {"minimum", "corrected", NULL}},
     {"ppe_source", offsetof(params, ppe_source), {"density", "mixed", "ecs", NULL}},
+    {"free_surface", offsetof(params, free_surface), {"number_density", "neighbour_count", NULL}},
     {"two_phase_model", offsetof(params, two_phase_model),
      {"two_step_improved", "two_step", "single", NULL}},
     {"interface_reaction", offsetof(params, interface_reaction),

@@ -36,6 +36,7 @@ void mps2p_solver_destroy(mps2p_solver *s)
     free(s->number_density);
     free(s->number_density_start);
     free(s->eddy_viscosity);
+    free(s->neighbour_count);
     free(s->scratch);
     free(s->on_surface);
     neighbours_free(&s->neighbours);

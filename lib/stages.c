@@ -41,6 +41,19 @@ static int run_viscosity(mps2p_solver *s, double dt)
     return MPS2P_OK;
 }
 
+static int run_neighbour_count(mps2p_solver *s, double dt)
+{
+    (void)dt;
+    neighbour_count_compute(s);
+    return MPS2P_OK;
+}
+
+static int counts_neighbours(const mps2p_solver *s)
+{
+    return s->params.free_surface == FREE_SURFACE_NEIGHBOUR_COUNT &&
+           !s->effect_active[EFFECT_TWO_PHASE];
+}
+
 static int run_turbulence(mps2p_solver *s, double dt)
 {
     turbulence_apply(s, dt);
@@ -200,6 +213,7 @@ static const stage_entry stages[STAGE_COUNT] = {
     [STAGE_INTERFACE_DRIFT] = {"interface_drift", EFFECT_INTERFACE_REACTION, drift_reaction,
                                run_interface_drift},
     [STAGE_TURBULENCE] = {"turbulence", EFFECT_TURBULENCE, NULL, run_turbulence},
+    [STAGE_NEIGHBOUR_COUNT] = {"neighbour_count", -1, counts_neighbours, run_neighbour_count},
     [STAGE_GAS_DIVERGENCE_CHECK] = {"gas_divergence_check", EFFECT_TWO_PHASE, NULL,
                                     run_gas_divergence_check},
 };
@@ -218,7 +232,7 @@ static const int sequence[] = {
     STAGE_GRAVITY,
     STAGE_EXTERNAL_FORCES,  STAGE_ADVECTION,            STAGE_NEIGHBOURS,
     STAGE_COLLISION,        STAGE_NEIGHBOURS,           STAGE_NUMBER_DENSITY,
-    STAGE_FREE_SURFACE,     STAGE_PRESSURE_ASSEMBLY,    STAGE_PRESSURE_SOLVE,
+    STAGE_NEIGHBOUR_COUNT,  STAGE_FREE_SURFACE,     STAGE_PRESSURE_ASSEMBLY,    STAGE_PRESSURE_SOLVE,
     STAGE_INTERFACE_SCAN,   STAGE_INTERFACE_JOIN,       STAGE_LIQUID_PRESSURE,
     STAGE_GAS_PRESSURE,     STAGE_CORRECTION,           STAGE_TWO_PHASE_CORRECTION,
     STAGE_INTERFACE_DRIFT,  STAGE_GAS_DIVERGENCE_CHECK, STAGE_DIVERGENCE_CHECK,
@@ -250,6 +264,12 @@ int plan_build(mps2p_solver *s)
     for (int stage = 0; stage < STAGE_COUNT; stage++)
         s->stage_active[stage] = stage_active(s, stage);
     /* arrays of stages that are off are never allocated */
+    if (s->stage_active[STAGE_NEIGHBOUR_COUNT] && !s->neighbour_count) {
+        s->neighbour_count = calloc(s->count, sizeof *s->neighbour_count);
+        if (!s->neighbour_count)
+            return fail(NULL, MPS2P_ERR_NOMEM, "out of memory for %zu neighbour counts",
+                        s->count);
+    }
     if (s->stage_active[STAGE_TURBULENCE] && !s->eddy_viscosity) {
         s->eddy_viscosity = calloc(s->count, sizeof *s->eddy_viscosity);
         if (!s->eddy_viscosity)

@@ -428,6 +428,36 @@ static void test_turbulence(void)
     mps2p_solver_destroy(still_off);
 }
 
+/* The neighbour-count free-surface variant: its own stage, only when chosen;
+ * it flags every particle the number density flags, and maybe more. */
+static void test_free_surface_variants(void)
+{
+    mps2p_scene *scene = dam_break_scene(0.02);
+    MUST(mps2p_scene_set_option(scene, "free_surface", "neighbour_count"));
+    mps2p_solver *counted = make(scene), *plain = make(dam_break_scene(0.02));
+    double bytes_counted, bytes_plain;
+    size_t n;
+    MUST(mps2p_solver_particle_count(plain, &n));
+    MUST(mps2p_solver_get_stat(counted, "memory_bytes", &bytes_counted));
+    MUST(mps2p_solver_get_stat(plain, "memory_bytes", &bytes_plain));
+    CHECK(bytes_counted - bytes_plain == 4.0 * (double)n, "count memory %g - %g",
+          bytes_counted, bytes_plain);
+    int active;
+    MUST(mps2p_solver_step(counted));
+    MUST(mps2p_solver_step(plain));
+    CHECK(stage_calls(counted, "neighbour_count", &active) == 1 && active,
+          "neighbour_count stage with the variant");
+    CHECK(stage_calls(plain, "neighbour_count", &active) == 0 && !active,
+          "neighbour_count stage without the variant");
+    double with_count, without;
+    MUST(mps2p_solver_get_stat(counted, "surface_particles", &with_count));
+    MUST(mps2p_solver_get_stat(plain, "surface_particles", &without));
+    CHECK(with_count >= without && without > 0, "surface particles %g (count) vs %g", with_count,
+          without);
+    mps2p_solver_destroy(counted);
+    mps2p_solver_destroy(plain);
+}
+
 int main(void)
 {
     test_inferred_effects();
@@ -438,5 +468,6 @@ int main(void)
     test_inferred_equals_requested();
     test_two_phase_effects();
     test_turbulence();
+    test_free_surface_variants();
     return check_summary("test_effects");
 }
