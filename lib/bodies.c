@@ -273,10 +273,10 @@ static int wall_normal(const mps2p_solver *s, size_t i, const double fluid_side[
 {
     const double re = s->params.re_density * s->l0;
     const double *r = s->state.position;
-    const neighbour_list *nl = &s->neighbours;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     double xx = 0.0, xy = 0.0, yy = 0.0;
-    for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
-        size_t j = nl->index[k];
+    for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+        size_t j = nl.index[k];
         if (s->kind[j] != MPS2P_KIND_WALL)
             continue;
         double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
@@ -321,10 +321,10 @@ static int wall_force(const mps2p_solver *s, size_t i, int fluid_id, double f[2]
 {
     const double re = s->params.re_density * s->l0;
     const double *r = s->state.position;
-    const neighbour_list *nl = &s->neighbours;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     double side[2] = {0.0, 0.0}, weight = 0.0, mine = 0.0;
-    for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
-        size_t j = nl->index[k];
+    for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+        size_t j = nl.index[k];
         if (s->kind[j] != MPS2P_KIND_FLUID)
             continue;
         double dx = r[2 * i] - r[2 * j], dy = r[2 * i + 1] - r[2 * j + 1];

@@ -12,7 +12,7 @@ void collision_apply(mps2p_solver *s, double dt)
         return;
     const double limit = s->params.collision_distance * s->l0;
     const double e = s->params.collision_restitution;
-    const neighbour_list *nl = &s->neighbours;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, limit);
     double *position = s->state.position, *velocity = s->state.velocity;
     double *updated = s->scratch;
     memcpy(updated, velocity, 2 * s->count * sizeof *updated);
@@ -22,8 +22,8 @@ void collision_apply(mps2p_solver *s, double dt)
     for (size_t i = 0; i < s->count; i++) {
         if (s->kind[i] != MPS2P_KIND_FLUID)
             continue;
-        for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
-            size_t j = nl->index[k];
+        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+            size_t j = nl.index[k];
             double dx = position[2 * j] - position[2 * i];
             double dy = position[2 * j + 1] - position[2 * i + 1];
             double r = sqrt(dx * dx + dy * dy);

@@ -43,7 +43,7 @@ void interface_scan(mps2p_solver *s)
 {
     two_phase *tp = s->phases;
     const double radius = 1.2 * s->params.re_density * s->l0, r2max = radius * radius;
-    const neighbour_list *nl = &s->neighbours;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, radius);
     const double *r = s->state.position, *u = s->state.velocity;
     const int walls = s->params.sector_scan_walls != 0.0;
     const double quarter = PI / 4.0;
@@ -54,8 +54,8 @@ void interface_scan(mps2p_solver *s)
             continue;
         int occupied[8] = {0};
         double rep[8];
-        for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
-            size_t j = nl->index[k];
+        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+            size_t j = nl.index[k];
             double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
             double d2 = dx * dx + dy * dy;
             int heavy = s->kind[j] == MPS2P_KIND_FLUID ? !tp->light[j] : walls;
@@ -95,11 +95,11 @@ static int inside_liquid(const mps2p_solver *s, size_t i)
 {
     const two_phase *tp = s->phases;
     const double re2 = s->params.re_density * s->l0 * s->params.re_density * s->l0;
-    const neighbour_list *nl = &s->neighbours;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, s->params.re_density * s->l0);
     const double *r = s->state.position;
     int heavy_near = 0, light_near = 0;
-    for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
-        size_t j = nl->index[k];
+    for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+        size_t j = nl.index[k];
         if (s->kind[j] != MPS2P_KIND_FLUID)
             continue;
         double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
@@ -139,15 +139,15 @@ void interface_reaction_apply(mps2p_solver *s, double dt, double *change)
     if (kind != REACTION_PAIR && kind != REACTION_PUSH && kind != REACTION_CONTINUITY)
         return;
     const double re = s->params.re_density * s->l0, re2 = re * re;
-    const neighbour_list *nl = &s->neighbours;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *r = s->state.position, *p = tp->gas_pressure;
     const double factor = 2.0 / s->n0_density;
     for (size_t i = 0; i < s->count; i++) {
         if (!tp->light[i] || !tp->joined[i])
             continue;
         double reference = minimum_masked_around(s, i, p, tp->gas_part);
-        for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
-            size_t j = nl->index[k];
+        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+            size_t j = nl.index[k];
             if (s->kind[j] != MPS2P_KIND_FLUID || tp->light[j])
                 continue;
             double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
@@ -182,7 +182,7 @@ void interface_drift_apply(mps2p_solver *s, double dt)
 {
     two_phase *tp = s->phases;
     const double re = s->params.re_density * s->l0, re2 = re * re;
-    const neighbour_list *nl = &s->neighbours;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     double *r = s->state.position, *u = s->state.velocity;
     double gx = s->params.gravity[0], gy = s->params.gravity[1], g = hypot(gx, gy);
     double up[2] = {g > 0.0 ? -gx / g : 0.0, g > 0.0 ? -gy / g : 1.0};
@@ -192,8 +192,8 @@ void interface_drift_apply(mps2p_solver *s, double dt)
         if (!tp->light[i] || !(tp->joined[i] || tp->join_weight[i] > 0.0))
             continue;
         double sw = 0.0, mean[2] = {0.0, 0.0};
-        for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
-            size_t j = nl->index[k];
+        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+            size_t j = nl.index[k];
             if (s->kind[j] != MPS2P_KIND_FLUID || tp->light[j])
                 continue;
             double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];

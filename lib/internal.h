@@ -149,13 +149,21 @@ void lattice_constants(double l0, double re, double *n0, double *lambda);
 
 /* Every pair closer than cutoff = max radius + skin, kept as a compressed
  * row list (both directions, ordered by index); rebuilt when a particle has
- * moved more than skin / 2 since the last build, so each stage can reuse it. */
+ * moved more than skin / 2 since the last build, so each stage can reuse it.
+ * At each build a short list is also taken from it: the pairs closer than
+ * short_radius + skin (short_radius = re_density l0), in the same order, for
+ * the stages that look no further than short_radius (about 20 neighbours
+ * instead of 60); see neighbour_rows_within. */
 typedef struct neighbour_list {
     double cutoff, skin;
     size_t count;
     size_t *start;       /* count + 1 */
     size_t *index;       /* start[count] entries */
     size_t capacity;
+    double short_radius; /* 0 = no short list (it would be the long one) */
+    size_t *short_start; /* count + 1, NULL without a short list */
+    size_t *short_index; /* short_start[count] entries */
+    size_t short_capacity;
     double *built_at;    /* positions at the last build, 2 * count */
     /* cell grid over the domain */
     double origin[2];
@@ -169,16 +177,39 @@ typedef struct neighbour_list {
     int stale;           /* a rebuild failed half-way: rebuild at the next update */
 } neighbour_list;
 
+/* short_radius: the radius the short list must serve (re_density l0); 0, or
+ * one within skin of cutoff, keeps no short list. */
 int neighbours_init(neighbour_list *list, size_t count, double cutoff, double skin,
-                    const double domain[4]);
+                    double short_radius, const double domain[4]);
 void neighbours_free(neighbour_list *list);
-/* Rebuilds when needed; returns MPS2P_OK or MPS2P_ERR_NOMEM. */
+/* Rebuilds both lists when needed; returns MPS2P_OK or MPS2P_ERR_NOMEM (both
+ * lists then empty and stale, rebuilt at the next update). */
 int neighbours_update(neighbour_list *list, const double *position);
 /* Builds the list from the positions of an earlier build (built_at) and sets
  * the build count, so that a restored solver reuses the same pairs and makes
  * the same rebuild decisions as the one it was saved from. built_at must not
  * be list->built_at itself (it is copied there). */
 int neighbours_restore(neighbour_list *list, const double *built_at, unsigned long builds);
+
+/* The rows a stage loops over for the pairs closer than radius: the short
+ * list when radius is within its radius, else the long one. The short list
+ * holds, in the same order, every pair of the long one closer than
+ * short_radius + skin at the build, so a stage that skips the pairs at radius
+ * or beyond sees the same pairs, in the same order, from either: its sums
+ * come out bit for bit the same. */
+typedef struct neighbour_rows {
+    const size_t *start, *index;
+} neighbour_rows;
+
+static inline neighbour_rows neighbour_rows_within(const neighbour_list *list, double radius)
+{
+    neighbour_rows rows = {list->start, list->index};
+    if (list->short_start && radius <= list->short_radius) {
+        rows.start = list->short_start;
+        rows.index = list->short_index;
+    }
+    return rows;
+}
 
 /* ---- linear solvers (linear_solver.c) ---- */
 

@@ -22,6 +22,9 @@ size_t solver_memory_bytes(const mps2p_solver *s)
     const neighbour_list *nl = &s->neighbours;
     bytes += (nl->count + 1) * sizeof *nl->start + nl->capacity * sizeof *nl->index;
     bytes += 2 * nl->count * sizeof *nl->built_at;
+    if (nl->short_start) /* the short list */
+        bytes += (nl->count + 1) * sizeof *nl->short_start +
+                 nl->short_capacity * sizeof *nl->short_index;
     bytes += (2 * nl->cells[0] * nl->cells[1] + 1) * sizeof *nl->cell_start;
     bytes += 2 * nl->count * sizeof *nl->cell_particle;
     bytes += s->matrix.row_capacity * sizeof *s->matrix.row_start;

@@ -1,4 +1,5 @@
-/* Cell-linked list and a Verlet neighbour list reused by every stage. */
+/* Cell-linked list and a Verlet neighbour list reused by every stage, with
+ * a short list of the pairs within the density radius taken from it. */
 #include "internal.h"
 
 #include <math.h>
@@ -10,12 +11,15 @@
 #define MIN_CELL_BUDGET 65536
 
 int neighbours_init(neighbour_list *list, size_t count, double cutoff, double skin,
-                    const double domain[4])
+                    double short_radius, const double domain[4])
 {
     memset(list, 0, sizeof *list);
     list->count = count;
     list->cutoff = cutoff;
     list->skin = skin;
+    /* a short list as long as the long one would only cost its copy */
+    if (short_radius > 0.0 && short_radius + skin < cutoff)
+        list->short_radius = short_radius;
     list->origin[0] = domain[0];
     list->origin[1] = domain[1];
     double width = domain[2] - domain[0], height = domain[3] - domain[1];
@@ -37,8 +41,11 @@ int neighbours_init(neighbour_list *list, size_t count, double cutoff, double sk
     list->cell_cursor = malloc(cells * sizeof *list->cell_cursor);
     list->cell_particle = malloc(count * sizeof *list->cell_particle);
     list->particle_cell = malloc(count * sizeof *list->particle_cell);
+    if (list->short_radius > 0.0)
+        list->short_start = calloc(count + 1, sizeof *list->short_start);
     if (!list->start || !list->built_at || !list->cell_start || !list->cell_cursor ||
-        !list->cell_particle || !list->particle_cell) {
+        !list->cell_particle || !list->particle_cell ||
+        (list->short_radius > 0.0 && !list->short_start)) {
         neighbours_free(list);
         return MPS2P_ERR_NOMEM;
     }
@@ -54,6 +61,8 @@ void neighbours_free(neighbour_list *list)
     free(list->cell_cursor);
     free(list->cell_particle);
     free(list->particle_cell);
+    free(list->short_start);
+    free(list->short_index);
     memset(list, 0, sizeof *list);
 }
 
@@ -108,14 +117,22 @@ static int compare_size(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Visits the 3x3 cells around particle i; counts, or also stores, neighbours. */
+/* Visits the 3x3 cells around particle i; counts, or also stores (out),
+ * neighbours closer than cutoff, sorted by index. *near (with a short list)
+ * gets how many of them are closer than short_radius + skin, which are also
+ * stored, in the same order, in short_out when out is given. The short list
+ * is decided here, from the same distances as the long one, so that the
+ * counting and the storing pass agree as they do for the long list. */
 static size_t gather(const neighbour_list *list, const double *position, size_t i,
-                     size_t *out)
+                     size_t *out, size_t *short_out, size_t *near)
 {
     double cut2 = list->cutoff * list->cutoff;
+    const int with_short = list->short_start != NULL;
+    const double short_cut = list->short_radius + list->skin;
+    const double short_cut2 = with_short ? short_cut * short_cut : 0.0;
     size_t c = list->particle_cell[i];
     long cx = (long)(c % list->cells[0]), cy = (long)(c / list->cells[0]);
-    size_t found = 0;
+    size_t found = 0, found_near = 0;
     for (long y = cy - 1; y <= cy + 1; y++) {
         if (y < 0 || y >= (long)list->cells[1])
             continue;
@@ -129,17 +146,64 @@ static size_t gather(const neighbour_list *list, const double *position, size_t 
                     continue;
                 double dx = position[2 * j] - position[2 * i];
                 double dy = position[2 * j + 1] - position[2 * i + 1];
-                if (dx * dx + dy * dy < cut2) {
+                double d2 = dx * dx + dy * dy;
+                if (d2 < cut2) {
+                    int is_near = d2 < short_cut2;
+                    /* with a short list, the low bit marks its pairs until sorted */
                     if (out)
-                        out[found] = j;
+                        out[found] = with_short ? 2 * j + (size_t)is_near : j;
                     found++;
+                    found_near += (size_t)is_near;
                 }
             }
         }
     }
-    if (out)
+    if (out) {
         qsort(out, found, sizeof *out, compare_size);
+        if (with_short) {
+            /* Without a branch (about a third are near, in no pattern): a
+             * far pair is written one past the row's last near one, a slot
+             * that the next rows, filled after this one, overwrite; the
+             * index keeps a spare slot past the last row for it. */
+            size_t stored = 0;
+            for (size_t k = 0; k < found; k++) {
+                size_t j = out[k] / 2;
+                short_out[stored] = j;
+                stored += out[k] % 2;
+                out[k] = j;
+            }
+        }
+    }
+    if (near)
+        *near = found_near;
     return found;
+}
+
+/* Grows an index array to hold total entries; 0 when it cannot. */
+static int reserve(size_t **index, size_t *capacity, size_t total)
+{
+    if (total <= *capacity)
+        return 1;
+    size_t grown_capacity = total + total / 4 + 16;
+    size_t *grown = realloc(*index, grown_capacity * sizeof *grown);
+    if (!grown)
+        return 0;
+    *index = grown;
+    *capacity = grown_capacity;
+    return 1;
+}
+
+/* Empty, consistent lists after a failed growth: start[] already counts the
+ * new pairs that index[] cannot hold. They are rebuilt at the next update
+ * even if the particles are back where the last build saw them (a failed
+ * step restores them). */
+static int fail_growth(neighbour_list *list)
+{
+    memset(list->start, 0, (list->count + 1) * sizeof *list->start);
+    if (list->short_start)
+        memset(list->short_start, 0, (list->count + 1) * sizeof *list->short_start);
+    list->stale = 1;
+    return MPS2P_ERR_NOMEM;
 }
 
 int neighbours_update(neighbour_list *list, const double *position)
@@ -147,27 +211,25 @@ int neighbours_update(neighbour_list *list, const double *position)
     if (!needs_rebuild(list, position))
         return MPS2P_OK;
     sort_into_cells(list, position);
+    const int with_short = list->short_start != NULL;
     list->start[0] = 0;
-    for (size_t i = 0; i < list->count; i++)
-        list->start[i + 1] = list->start[i] + gather(list, position, i, NULL);
-    size_t total = list->start[list->count];
-    if (total > list->capacity) {
-        size_t capacity = total + total / 4 + 16;
-        size_t *grown = realloc(list->index, capacity * sizeof *grown);
-        if (!grown) {
-            /* start[] already counts the new pairs, index[] cannot hold them:
-             * leave an empty, consistent list and rebuild at the next update
-             * even if the particles are back where the last build saw them
-             * (a failed step restores them). */
-            memset(list->start, 0, (list->count + 1) * sizeof *list->start);
-            list->stale = 1;
-            return MPS2P_ERR_NOMEM;
-        }
-        list->index = grown;
-        list->capacity = capacity;
+    if (with_short)
+        list->short_start[0] = 0;
+    for (size_t i = 0; i < list->count; i++) {
+        size_t near = 0;
+        list->start[i + 1] = list->start[i] + gather(list, position, i, NULL, NULL, &near);
+        if (with_short)
+            list->short_start[i + 1] = list->short_start[i] + near;
     }
+    size_t total = list->start[list->count];
+    /* the short index: one spare slot (gather), so never NULL */
+    if (!reserve(&list->index, &list->capacity, total) ||
+        (with_short &&
+         !reserve(&list->short_index, &list->short_capacity, list->short_start[list->count] + 1)))
+        return fail_growth(list);
     for (size_t i = 0; total > 0 && i < list->count; i++) /* no pairs: index may be NULL */
-        gather(list, position, i, list->index + list->start[i]);
+        gather(list, position, i, list->index + list->start[i],
+               with_short ? list->short_index + list->short_start[i] : NULL, NULL);
     memcpy(list->built_at, position, 2 * list->count * sizeof *position);
     list->builds++;
     list->stale = 0;

@@ -6,12 +6,12 @@
 void number_density_compute(mps2p_solver *s, double *out)
 {
     const double re = s->params.re_density * s->l0;
-    const neighbour_list *nl = &s->neighbours;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *position = s->state.position;
     for (size_t i = 0; i < s->count; i++) {
         double n = 0.0;
-        for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
-            size_t j = nl->index[k];
+        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+            size_t j = nl.index[k];
             double dx = position[2 * j] - position[2 * i];
             double dy = position[2 * j + 1] - position[2 * i + 1];
             n += kernel_weight(sqrt(dx * dx + dy * dy), re);

@@ -13,11 +13,11 @@ void gradient_masked_at(const mps2p_solver *s, size_t i, const double *field, do
                         const unsigned char *mask, double out[2])
 {
     const double re = s->params.re_density * s->l0, re2 = re * re;
-    const neighbour_list *nl = &s->neighbours;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *position = s->state.position;
     double gx = 0.0, gy = 0.0;
-    for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
-        size_t j = nl->index[k];
+    for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+        size_t j = nl.index[k];
         if (s->kind[j] == MPS2P_KIND_DUMMY || (mask && !mask[j]))
             continue;
         double dx = position[2 * j] - position[2 * i];
@@ -36,11 +36,11 @@ void gradient_masked_at(const mps2p_solver *s, size_t i, const double *field, do
 int corrective_matrix_at(const mps2p_solver *s, size_t i, double inverse[3])
 {
     const double re = s->params.re_density * s->l0, re2 = re * re;
-    const neighbour_list *nl = &s->neighbours;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *position = s->state.position;
     double xx = 0.0, xy = 0.0, yy = 0.0;
-    for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
-        size_t j = nl->index[k];
+    for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+        size_t j = nl.index[k];
         if (s->kind[j] == MPS2P_KIND_DUMMY)
             continue;
         double dx = position[2 * j] - position[2 * i];
@@ -103,11 +103,11 @@ double minimum_masked_around(const mps2p_solver *s, size_t i, const double *fiel
                              const unsigned char *mask)
 {
     const double re = s->params.re_density * s->l0, re2 = re * re;
-    const neighbour_list *nl = &s->neighbours;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *position = s->state.position;
     double minimum = field[i];
-    for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
-        size_t j = nl->index[k];
+    for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+        size_t j = nl.index[k];
         if (s->kind[j] == MPS2P_KIND_DUMMY || (mask && !mask[j]))
             continue;
         double dx = position[2 * j] - position[2 * i];

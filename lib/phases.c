@@ -126,12 +126,12 @@ static void heavy_number_density(const mps2p_solver *s, double *out)
 {
     const two_phase *tp = s->phases;
     const double re = s->params.re_density * s->l0;
-    const neighbour_list *nl = &s->neighbours;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *position = s->state.position;
     for (size_t i = 0; i < s->count; i++) {
         double n = 0.0;
-        for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
-            size_t j = nl->index[k];
+        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+            size_t j = nl.index[k];
             if (!tp->heavy_mask[j])
                 continue;
             double dx = position[2 * j] - position[2 * i];
@@ -244,11 +244,11 @@ static double continuity_density(const mps2p_solver *s, size_t i, double rho_eff
 {
     const two_phase *tp = s->phases;
     const double re = s->params.re_density * s->l0, re2 = re * re;
-    const neighbour_list *nl = &s->neighbours;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *r = s->state.position;
     double heavy = 0.0, all = 0.0;
-    for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
-        size_t j = nl->index[k];
+    for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+        size_t j = nl.index[k];
         if (s->kind[j] != MPS2P_KIND_FLUID)
             continue;
         double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];

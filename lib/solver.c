@@ -219,8 +219,9 @@ int solver_start(mps2p_solver *s)
             return status;
     }
     double cutoff = (params_max_radius(&s->params) + s->params.neighbour_skin) * s->l0;
+    /* the short list serves the stages within the density radius */
     if (neighbours_init(&s->neighbours, s->count, cutoff, s->params.neighbour_skin * s->l0,
-                        s->domain) != MPS2P_OK)
+                        s->params.re_density * s->l0, s->domain) != MPS2P_OK)
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory for the neighbour list");
     int status = linear_solver_create(s->params.pressure_solver, &s->linear);
     if (status != MPS2P_OK)

@@ -25,6 +25,37 @@ static mps2p_solver *lattice(double l0, int side, double jitter)
     return solver;
 }
 
+/* The short neighbour list: row by row, the long list's pairs closer than
+ * re_density l0 + skin, in the same order, and nothing else. */
+static void check_short_list(const mps2p_solver *s)
+{
+    const neighbour_list *nl = &s->neighbours;
+    CHECK(nl->short_start != NULL, "a solver keeps a short neighbour list");
+    if (!nl->short_start)
+        return;
+    const double cut = nl->short_radius + nl->skin;
+    const double *r = nl->built_at;
+    size_t mismatches = 0;
+    for (size_t i = 0; i < nl->count; i++) {
+        size_t next = nl->short_start[i];
+        for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
+            size_t j = nl->index[k];
+            double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
+            if (dx * dx + dy * dy < cut * cut)
+                mismatches += next >= nl->short_start[i + 1] || nl->short_index[next++] != j;
+        }
+        mismatches += next != nl->short_start[i + 1];
+    }
+    CHECK(mismatches == 0, "short list: %zu rows or pairs differ from the long list's", mismatches);
+    CHECK(nl->short_start[nl->count] < nl->start[nl->count] / 2,
+          "short list holds %zu pairs, the long %zu", nl->short_start[nl->count],
+          nl->start[nl->count]);
+    neighbour_rows rows = neighbour_rows_within(nl, s->params.re_density * s->l0);
+    CHECK(rows.start == nl->short_start, "the density radius loops over the short list");
+    rows = neighbour_rows_within(nl, 1.2 * s->params.re_density * s->l0);
+    CHECK(rows.start == nl->start, "beyond the density radius, the long list");
+}
+
 int main(void)
 {
     const double l0 = 0.01;
@@ -71,6 +102,7 @@ int main(void)
     /* On a lattice perturbed by 5 % of l0 the operators are approximate:
      * the errors are reported, and bounded loosely. */
     s = lattice(l0, side, 0.05);
+    check_short_list(s);
     for (size_t i = 0; i < n; i++) {
         double x = s->state.position[2 * i], y = s->state.position[2 * i + 1];
         linear[i] = 3.0 + 2.0 * x - 5.0 * y;

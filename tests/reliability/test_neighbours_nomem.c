@@ -24,7 +24,7 @@ int main(void)
     const double domain[4] = {-10, -10, 10, 10};
     double apart[4] = {0.0, 0.0, 5.0, 0.0}, close[4] = {0.0, 0.0, 0.5, 0.0};
     neighbour_list list;
-    CHECK(neighbours_init(&list, 2, 1.0, 0.2, domain) == MPS2P_OK, "init");
+    CHECK(neighbours_init(&list, 2, 1.0, 0.2, 0.6, domain) == MPS2P_OK, "init");
     CHECK(neighbours_update(&list, apart) == MPS2P_OK, "first build");
     CHECK(list.start[2] == 0, "no pairs apart");
 
@@ -47,6 +47,36 @@ int main(void)
     CHECK(neighbours_update(&list, close) == MPS2P_OK, "update close");
     CHECK(list.start[2] == 2 && list.index[0] == 1 && list.index[1] == 0,
           "close: the pair is listed");
+    CHECK(list.short_start[2] == 2 && list.short_index[0] == 1 && list.short_index[1] == 0,
+          "close: the pair is in the short list");
+    neighbours_free(&list);
+
+    /* The short list failing to grow (the long one's growth succeeds):
+     * both lists left empty and consistent, rebuilt at the next update.
+     * Six particles: 30 pairs, more than the short index's first room. */
+    double apart6[12], close6[12];
+    for (int p = 0; p < 6; p++) {
+        apart6[2 * p] = -9.0 + 3.0 * p;
+        close6[2 * p] = 0.1 * p;
+        apart6[2 * p + 1] = close6[2 * p + 1] = 0.0;
+    }
+    CHECK(neighbours_init(&list, 6, 1.0, 0.2, 0.6, domain) == MPS2P_OK, "init six");
+    CHECK(neighbours_update(&list, apart6) == MPS2P_OK, "first build of six");
+    setenv("MPS2P_FAIL_MALLOC_AT", "2", 1);
+    arm();
+    status = neighbours_update(&list, close6); /* long, then short index grow */
+    disarm();
+    CHECK(status == MPS2P_ERR_NOMEM, "the growing short list returned %s",
+          mps2p_status_string(status));
+    CHECK(list.start[6] == 0 && list.short_start[6] == 0 && list.stale,
+          "after the short list's failure: %zu and %zu pairs, stale %d", list.start[6],
+          list.short_start[6], list.stale);
+    CHECK(list.short_start[list.count] <= list.short_capacity, "short start[] within index[]");
+    CHECK(neighbours_update(&list, apart6) == MPS2P_OK, "update after the short failure");
+    CHECK(list.start[6] == 0 && list.short_start[6] == 0, "apart again, short list empty");
+    CHECK(neighbours_update(&list, close6) == MPS2P_OK, "update close again");
+    CHECK(list.start[6] == 30 && list.short_start[6] == 30 && list.short_index[0] == 1 &&
+          list.short_index[29] == 4, "close again: the 30 pairs in the short list");
     neighbours_free(&list);
     return check_summary("test_neighbours_nomem");
 }
