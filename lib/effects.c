@@ -93,11 +93,11 @@ typedef struct effect_entry {
 } effect_entry;
 
 static const effect_entry effects[EFFECT_COUNT] = {
-    [EFFECT_GRAVITY] = {"gravity", gravity_needed},
-    [EFFECT_VISCOSITY] = {"viscosity", viscosity_needed},
-    [EFFECT_COLLISION] = {"collision", collision_needed},
-    [EFFECT_TWO_PHASE] = {"two_phase", two_phase_needed},
-    [EFFECT_INTERFACE_REACTION] = {"interface_reaction", interface_reaction_needed},
+    [EFFECT_GRAVITY] = {"gravity", gravity_needed, NULL},
+    [EFFECT_VISCOSITY] = {"viscosity", viscosity_needed, NULL},
+    [EFFECT_COLLISION] = {"collision", collision_needed, NULL},
+    [EFFECT_TWO_PHASE] = {"two_phase", two_phase_needed, NULL},
+    [EFFECT_INTERFACE_REACTION] = {"interface_reaction", interface_reaction_needed, NULL},
     [EFFECT_TURBULENCE] = {"turbulence", turbulence_needed, always_possible},
 };
 
