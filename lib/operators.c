@@ -9,8 +9,11 @@ void gradient_at(const mps2p_solver *s, size_t i, const double *field, double re
     gradient_masked_at(s, i, field, reference, NULL, out);
 }
 
-void gradient_masked_at(const mps2p_solver *s, size_t i, const double *field, double reference,
-                        const unsigned char *mask, double out[2])
+/* The gradient of f_j = field[stride * j + offset] with the given reference,
+ * over non-dummy neighbours (those of mask, when given) within re_density. */
+static void gradient_core(const mps2p_solver *s, size_t i, const double *field, size_t stride,
+                          size_t offset, double reference, const unsigned char *mask,
+                          double out[2])
 {
     const double re = s->params.re_density * s->l0, re2 = re * re;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
@@ -25,12 +28,18 @@ void gradient_masked_at(const mps2p_solver *s, size_t i, const double *field, do
         double r2 = dx * dx + dy * dy;
         if (r2 >= re2 || r2 <= 0.0)
             continue;
-        double f = (field[j] - reference) / r2 * kernel_weight(sqrt(r2), re);
+        double f = (field[stride * j + offset] - reference) / r2 * kernel_weight(sqrt(r2), re);
         gx += f * dx;
         gy += f * dy;
     }
     out[0] = 2.0 / s->n0_density * gx;
     out[1] = 2.0 / s->n0_density * gy;
+}
+
+void gradient_masked_at(const mps2p_solver *s, size_t i, const double *field, double reference,
+                        const unsigned char *mask, double out[2])
+{
+    gradient_core(s, i, field, 1, 0, reference, mask, out);
 }
 
 int corrective_matrix_at(const mps2p_solver *s, size_t i, double inverse[3])
@@ -72,26 +81,7 @@ int corrective_matrix_at(const mps2p_solver *s, size_t i, double inverse[3])
 void gradient_at_component(const mps2p_solver *s, size_t i, const double *field, int c,
                            double out[2])
 {
-    const double re = s->params.re_density * s->l0, re2 = re * re;
-    const neighbour_list *nl = &s->neighbours;
-    const double *position = s->state.position;
-    const double reference = field[2 * i + c];
-    double gx = 0.0, gy = 0.0;
-    for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
-        size_t j = nl->index[k];
-        if (s->kind[j] == MPS2P_KIND_DUMMY)
-            continue;
-        double dx = position[2 * j] - position[2 * i];
-        double dy = position[2 * j + 1] - position[2 * i + 1];
-        double r2 = dx * dx + dy * dy;
-        if (r2 >= re2 || r2 <= 0.0)
-            continue;
-        double f = (field[2 * j + c] - reference) / r2 * kernel_weight(sqrt(r2), re);
-        gx += f * dx;
-        gy += f * dy;
-    }
-    out[0] = 2.0 / s->n0_density * gx;
-    out[1] = 2.0 / s->n0_density * gy;
+    gradient_core(s, i, field, 2, (size_t)c, field[2 * i + (size_t)c], NULL, out);
 }
 
 double minimum_around(const mps2p_solver *s, size_t i, const double *field)

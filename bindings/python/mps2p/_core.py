@@ -35,6 +35,34 @@ def real(value, what):
     return float(value)
 
 
+class Owned:
+    """Owns one C handle, freed by close(), a `with` block, or garbage
+    collection (ffi.gc with the C destroy function); a closed object refuses
+    use with ValueError, and closing twice is fine."""
+
+    _what = "handle"
+
+    def _own(self, handle, destroy):
+        self._handle = ffi.gc(handle, destroy)
+
+    @property
+    def handle(self):
+        if self._handle is None:
+            raise ValueError("the %s is closed" % self._what)
+        return self._handle
+
+    def close(self):
+        if self._handle is not None:
+            ffi.release(self._handle)
+            self._handle = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
 def version():
     return ffi.string(lib.mps2p_version_string()).decode()
 

@@ -1,7 +1,7 @@
 """Scene: particle spacing, fluids, particles, parameters and options."""
 import numpy as np
 
-from ._core import check, encode, real
+from ._core import Owned, check, encode, real
 from ._native import ffi, lib
 
 KIND_FLUID = lib.MPS2P_KIND_FLUID
@@ -21,7 +21,7 @@ def param_info():
     return info
 
 
-class Scene:
+class Scene(Owned):
     """A scene under construction (wraps mps2p_scene).
 
     Scene(l0, **parameters): parameters are the C library's numeric parameters
@@ -29,29 +29,13 @@ class Scene:
     pressure_solver="cg") may be passed the same way. The C handle is freed by
     close(), by leaving a `with` block, or when the object is collected."""
 
+    _what = "scene"
+
     def __init__(self, l0, **settings):
         handle = ffi.new("mps2p_scene **")
         check(lib.mps2p_scene_create(real(l0, "l0"), handle))
-        self._handle = ffi.gc(handle[0], lib.mps2p_scene_destroy)
+        self._own(handle[0], lib.mps2p_scene_destroy)
         self.set(**settings)
-
-    # -- lifetime ---------------------------------------------------------
-    @property
-    def handle(self):
-        if self._handle is None:
-            raise ValueError("the scene is closed")
-        return self._handle
-
-    def close(self):
-        if self._handle is not None:
-            ffi.release(self._handle)
-            self._handle = None
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     # -- fluids and particles ---------------------------------------------
     def add_fluid(self, name, density, viscosity):

@@ -5,7 +5,7 @@ returned, and changing the array never changes the solver."""
 import numpy as np
 
 from . import errors
-from ._core import check, encode, real
+from ._core import Owned, check, encode, real
 from ._native import ffi, lib
 
 STAT_KEYS = ("max_speed", "kinetic_energy", "potential_energy", "pressure_min",
@@ -17,54 +17,30 @@ STAT_KEYS = ("max_speed", "kinetic_energy", "potential_energy", "pressure_min",
              "gas_ppe_unknowns", "gas_ppe_iterations", "two_phase_active")
 
 
-class State:
+class State(Owned):
     """A solver state saved in memory (wraps mps2p_state); freed when collected
     or closed."""
 
+    _what = "state"
+
     def __init__(self, handle):
-        self._handle = ffi.gc(handle, lib.mps2p_state_destroy)
-
-    @property
-    def handle(self):
-        if self._handle is None:
-            raise ValueError("the state is closed")
-        return self._handle
-
-    def close(self):
-        if self._handle is not None:
-            ffi.release(self._handle)
-            self._handle = None
+        self._own(handle, lib.mps2p_state_destroy)
 
 
-class Solver:
+class Solver(Owned):
     """Wraps mps2p_solver. Solver(scene) copies the scene: the scene may be
     changed or closed afterwards. Free it with close(), a `with` block, or
     garbage collection."""
 
+    _what = "solver"
+
     def __init__(self, scene=None, _handle=None):
         if _handle is not None:
-            self._handle = ffi.gc(_handle, lib.mps2p_solver_destroy)
+            self._own(_handle, lib.mps2p_solver_destroy)
             return
         handle = ffi.new("mps2p_solver **")
         check(lib.mps2p_solver_create(scene.handle, handle))
-        self._handle = ffi.gc(handle[0], lib.mps2p_solver_destroy)
-
-    @property
-    def handle(self):
-        if self._handle is None:
-            raise ValueError("the solver is closed")
-        return self._handle
-
-    def close(self):
-        if self._handle is not None:
-            ffi.release(self._handle)
-            self._handle = None
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
+        self._own(handle[0], lib.mps2p_solver_destroy)
 
     # -- running ------------------------------------------------------------
     def step(self):
