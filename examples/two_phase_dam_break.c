@@ -15,7 +15,7 @@
 
 #define L0 0.01
 static int water = 0, air = 1;
-static double gmax_p = 0, tmax = 0, emax = 0, jmax = 0, iters = 0, giters = 0; static long nsteps = 0;
+static double cmax = 0, gmax_p = 0, tmax = 0, emax = 0, jmax = 0, iters = 0, giters = 0; static long nsteps = 0;
 
 static int progress(const mps2p_solver *s, void *u)
 {
@@ -25,6 +25,7 @@ static int progress(const mps2p_solver *s, void *u)
     if (mps2p_solver_get_stat(s, "gas_triggered", &v) == 0 && v > tmax) tmax = v;
     if (mps2p_solver_get_stat(s, "gas_enclosed", &v) == 0 && v > emax) emax = v;
     if (mps2p_solver_get_stat(s, "gas_joined", &v) == 0 && v > jmax) jmax = v;
+    if (mps2p_solver_get_stat(s, "gas_capped", &v) == 0 && v > cmax) cmax = v;
     mps2p_solver_get_stat(s, "ppe_iterations", &v); iters += v;
     if (mps2p_solver_get_stat(s, "gas_ppe_iterations", &v) == 0) giters += v;
     nsteps++;
@@ -74,11 +75,11 @@ int main(int argc, char **argv)
     size_t nw = 0, na = 0;
     for (size_t i = 0; i < n; i++) { if (kind[i] == 0 && fid[i] == water) nw++; if (kind[i] == 0 && fid[i] == air && !noair) na++; }
     printf("# particles %zu water %zu air %zu\n", n, nw, na);
-    printf("#    t  steps  inw inwA  trig  encl  join   gasPmax  uwat   uair  front  wPmax  itW  itG  wall_s\n");
+    printf("#    t  steps  inw inwA  trig  encl  join   gasPmax  uwat   uair  front  wPmax  itW  itG  wall_s cap\n");
     double t0 = now(), peak = 0, last_inw = 0; int status = 0; int si = 0;
     const double re = 2.1 * L0;
     for (int k = 1; k <= (int)lround(end / 0.05); k++) {
-        gmax_p = tmax = emax = jmax = iters = giters = 0; nsteps = 0;
+        cmax = gmax_p = tmax = emax = jmax = iters = giters = 0; nsteps = 0;
         double target = 0.05 * k;
         status = mps2p_solver_advance_to(s, target, progress, NULL);
         double t; mps2p_solver_get_time(s, &t);
@@ -108,8 +109,8 @@ int main(int argc, char **argv)
         }
         if (inw > peak) peak = inw;
         last_inw = inw;
-        printf("%6.2f %6ld %4zu %4zu %5.0f %5.0f %5.0f %9.1f %5.2f %6.2f %6.3f %6.0f %4.0f %4.0f %7.1f\n", t, nsteps, inw, inwa, tmax, emax, jmax,
-               gmax_p, uw, ua, front, wp, nsteps ? iters / nsteps : 0, nsteps ? giters / nsteps : 0, now() - t0);
+        printf("%6.2f %6ld %4zu %4zu %5.0f %5.0f %5.0f %9.1f %5.2f %6.2f %6.3f %6.0f %4.0f %4.0f %7.1f %3.0f\n", t, nsteps, inw, inwa, tmax, emax, jmax,
+               gmax_p, uw, ua, front, wp, nsteps ? iters / nsteps : 0, nsteps ? giters / nsteps : 0, now() - t0, cmax);
         fflush(stdout);
         if (snapdir && si < nsnap && t >= snapat[si] - 1e-9) {
             char path[512]; snprintf(path, sizeof path, "%s/snap_%05.3f.csv", snapdir, t);

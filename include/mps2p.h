@@ -164,6 +164,9 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *                                 beta_count N0 neighbours within re_density
  *   smagorinsky_constant    0.1   Cs of effect.turbulence: nu_t = (Cs l0)^2 |S|
  *   neighbour_skin          0.4   extra radius of the neighbour list, in l0
+ *   excitation_acceleration 0     A of a shaken tank's horizontal acceleration
+ *                                 A sin(2 pi t / T) (m/s^2); effect.excitation
+ *   excitation_period       1.0   T (s)
  * mps2p_param_info() lists them at run time. */
 MPS2P_API int mps2p_scene_set_param(mps2p_scene *scene, const char *key, double value);
 MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
@@ -191,6 +194,9 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  *   free_surface      "number_density" (default): n* < beta n0 (METHOD.md);
  *                     "neighbour_count": that, or fewer neighbours than
  *                     beta_count N0 (its own stage, neighbour_count)
+ *   effect.excitation "auto": on when excitation_acceleration != 0: every
+ *                     fluid particle feels -A sin(2 pi t / T) along x (the
+ *                     tank's frame; sloshing), a stage after gravity
  *   effect.turbulence "auto" and "off": off; "on": a sub-particle-scale eddy
  *                     viscosity (Smagorinsky, smagorinsky_constant), a
  *                     stage after the viscous one; possible in any scene
@@ -209,8 +215,9 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  *                     issue 9 yet)
  * Two-phase parameters (light_fraction, sector_scan_walls, join_enclosed,
  * join_hold, join_ramp_time, bubble_added_mass, bubble_rise_velocity,
- * bubble_relaxation_time, drift_liquid_gradient, gas_liquid_volume,
- * gas_cg_tolerance, gas_pressure_limit): mps2p_param_info, docs/two-phase.md.
+ * bubble_relaxation_time, drift_liquid_gradient, drift_without_gravity,
+ * gas_liquid_volume, gas_correction_limit, gas_cg_tolerance,
+ * gas_pressure_limit): mps2p_param_info, docs/two-phase.md.
  * Water at rest stays still (docs/validation.md) with pressure_gradient
  * "corrected", ppe_source "ecs" and collision_distance 0.995; the defaults
  * let a still square lattice shear and rearrange. */
@@ -297,11 +304,20 @@ MPS2P_API int mps2p_solver_get_last_dt(const mps2p_solver *solver, double *dt);
  *                      the previous one's pattern reuses its analysis; 0 for cg)
  *   memory_bytes       memory the solver holds (arrays, lists, matrix, solver
  *                      workspace; CHOLMOD's factor is freed after each solve)
+ *   diverged_particle  the particle a divergence was found at (its place in the
+ *                      kept state is where it started the failed step); -1 when
+ *                      the solver has not diverged or the particle is not known
+ *   closest_pair       smallest distance from a fluid particle to any other
+ *                      particle (l0; computed when asked, from the neighbour list)
  * With two phases (0 when effect two_phase is off): gas_triggered (light
  *   particles with delta_al = 1 in the last step), gas_enclosed (heavy
  *   particles in all 8 sectors), gas_joined (reacting), gas_pressure_max (Pa,
  *   over light particles moved by the gas), gas_ppe_unknowns,
- *   gas_ppe_iterations, two_phase_active (1 when the effect is on). */
+ *   gas_ppe_iterations, gas_capped (light particles whose correction was
+ *   capped at gas_correction_limit), gas_in_liquid (light particles inside the
+ *   heavy fluid: more heavy than light neighbours within re_density, or heavy
+ *   fluid above and heavy fluid or wall below; computed when asked),
+ *   two_phase_active (1 when the effect is on). */
 MPS2P_API int mps2p_solver_get_stat(const mps2p_solver *solver, const char *key,
                                     double *value);
 

@@ -542,6 +542,7 @@ static int load(h5_context *ctx, hid_t file, mps2p_solver **out)
     mps2p_solver *s = calloc(1, sizeof *s);
     if (!s)
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory loading a checkpoint");
+    s->diverged_particle = -1; /* not saved */
     size_t count = 0;
     int fluids = 0, version = 0, status = MPS2P_ERR_IO;
     double *built_at = NULL;

@@ -80,6 +80,14 @@ static int turbulence_needed(const mps2p_solver *s, char *why, size_t size)
     return 0;
 }
 
+/* A shaken tank: in the tank's frame the fluid feels minus its acceleration. */
+static int excitation_needed(const mps2p_solver *s, char *why, size_t size)
+{
+    snprintf(why, size, "excitation_acceleration is %g m/s^2 (period %g s)",
+             s->params.excitation_acceleration, s->params.excitation_period);
+    return s->params.excitation_acceleration != 0.0;
+}
+
 static int always_possible(const mps2p_solver *s)
 {
     (void)s;
@@ -99,6 +107,7 @@ static const effect_entry effects[EFFECT_COUNT] = {
     [EFFECT_TWO_PHASE] = {"two_phase", two_phase_needed, NULL},
     [EFFECT_INTERFACE_REACTION] = {"interface_reaction", interface_reaction_needed, NULL},
     [EFFECT_TURBULENCE] = {"turbulence", turbulence_needed, always_possible},
+    [EFFECT_EXCITATION] = {"excitation", excitation_needed, NULL},
 };
 
 const char *effect_name(int effect)

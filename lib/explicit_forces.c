@@ -5,6 +5,8 @@
  * Viscosity is evaluated from the velocities at the start of the step. */
 #include "internal.h"
 
+#include <math.h>
+
 void viscosity_apply(mps2p_solver *s, double dt)
 {
     double *velocity = s->state.velocity;
@@ -40,6 +42,19 @@ void gravity_apply(mps2p_solver *s, double dt)
         velocity[2 * i] += gx;
         velocity[2 * i + 1] += gy;
     }
+}
+
+/* Base excitation: the tank accelerates by A sin(2 pi t / T) along x, so in
+ * its frame every fluid particle feels -A sin(2 pi t / T); t is the step's
+ * start, as for every explicit force. */
+void excitation_apply(mps2p_solver *s, double dt)
+{
+    double *velocity = s->state.velocity;
+    const double omega = 2.0 * 3.14159265358979323846 / s->params.excitation_period;
+    const double ax = -s->params.excitation_acceleration * sin(omega * s->time);
+    for (size_t i = 0; i < s->count; i++)
+        if (s->kind[i] == MPS2P_KIND_FLUID)
+            velocity[2 * i] += dt * ax;
 }
 
 void advect(mps2p_solver *s, double dt)

@@ -15,7 +15,7 @@
 static const double *gas_number_density(mps2p_solver *s)
 {
     two_phase *tp = s->phases;
-    if (s->params.gas_liquid_volume == 0.0)
+    if (s->params.gas_liquid_volume == 0.0 || !tp->improved) /* the paper's conventional */
         return s->number_density;
     const double re = s->params.re_density * s->l0, n0 = s->n0_density;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);

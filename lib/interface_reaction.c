@@ -169,23 +169,26 @@ void interface_reaction_apply(mps2p_solver *s, double dt, double *change)
     }
 }
 
-/* Drift reaction, after the correction: a joined light particle, corrected
- * as liquid (so walls and the liquid's incompressibility hold it), relaxes
- * its velocity over bubble_relaxation_time tau toward the kernel-weighted
- * mean velocity of the liquid around it plus a rise velocity u_t against
- * gravity: a drift-flux closure, a bubble rises at its terminal velocity
- * relative to the liquid (about 0.2-0.25 m/s for 5-20 mm air bubbles in
- * water, Clift, Grace and Weber 1978; tau about u_t / g). Its position follows
- * the correction's convention, r += dt du. Without liquid neighbours nothing
- * is changed. */
+/* Drift reaction, after the correction: a drift-flux closure. A joined light
+ * particle is a bubble carried by the liquid: its velocity relaxes over
+ * bubble_relaxation_time tau toward the kernel-weighted mean velocity of the
+ * liquid around it plus the terminal rise velocity u_t against gravity
+ * (about 0.2-0.25 m/s for 5-20 mm air bubbles in water, Clift, Grace and
+ * Weber 1978). The bubble's weight and buoyancy are in u_t, so the gravity
+ * this step's explicit stage gave it is taken back first: left in, it takes
+ * g tau (0.2 m/s for tau = 0.02 s) off the slip and the bubble does not rise
+ * (measured: docs/two-phase.md). Its position follows the correction's
+ * convention, r += dt du. Without liquid neighbours nothing is changed. */
 void interface_drift_apply(mps2p_solver *s, double dt)
 {
     two_phase *tp = s->phases;
     const double re = s->params.re_density * s->l0, re2 = re * re;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     double *r = s->state.position, *u = s->state.velocity;
-    double gx = s->params.gravity[0], gy = s->params.gravity[1], g = hypot(gx, gy);
-    double up[2] = {g > 0.0 ? -gx / g : 0.0, g > 0.0 ? -gy / g : 1.0};
+    const double *gravity = s->params.gravity;
+    double g = hypot(gravity[0], gravity[1]);
+    double up[2] = {g > 0.0 ? -gravity[0] / g : 0.0, g > 0.0 ? -gravity[1] / g : 1.0};
+    const int gravity_on = s->effect_active[EFFECT_GRAVITY];
     const double rise = s->params.bubble_rise_velocity;
     const double relax = 1.0 - exp(-dt / s->params.bubble_relaxation_time);
     for (size_t i = 0; i < s->count; i++) {
@@ -208,8 +211,9 @@ void interface_drift_apply(mps2p_solver *s, double dt)
         if (!(sw > 0.0))
             continue;
         for (int d = 0; d < 2; d++) {
+            double du = gravity_on && s->params.drift_without_gravity != 0.0 ? -dt * gravity[d] : 0.0;
             double target = mean[d] / sw + rise * up[d];
-            double du = relax * (target - u[2 * i + d]);
+            du += relax * (target - (u[2 * i + d] + du));
             u[2 * i + d] += du;
             r[2 * i + d] += dt * du;
         }

@@ -49,6 +49,7 @@ enum effect_id {
     EFFECT_TWO_PHASE,          /* two-step pressure, liquid and gas (METHOD.md 2) */
     EFFECT_INTERFACE_REACTION, /* gas acting back on the liquid (METHOD.md 3); needs two_phase */
     EFFECT_TURBULENCE,         /* Smagorinsky eddy viscosity; only when requested */
+    EFFECT_EXCITATION,         /* horizontal base excitation (a shaken tank) */
     EFFECT_COUNT
 };
 enum effect_mode { EFFECT_AUTO = 0, EFFECT_ON = 1, EFFECT_OFF = 2 };
@@ -81,6 +82,10 @@ typedef struct params {
     double bubble_relaxation_time; /* s, of the slip toward the rise velocity (drift) */
     double drift_liquid_gradient;  /* 1 = drift particles corrected by the liquid pressure */
     double join_ramp_time;     /* s, ramp of a joining particle's weight; 0 = at once */
+    double excitation_acceleration; /* amplitude of the tank's horizontal acceleration */
+    double excitation_period;
+    double drift_without_gravity;
+    double gas_correction_limit; /* cap on a gas particle's correction (phases.c) */
     double gas_liquid_volume;  /* gas sees liquid particles weighted (0, 1, 2: gas_pressure.c) */
     double gas_cg_tolerance;   /* CG tolerance of the gas solve; 0 = cg_tolerance */
     double join_hold;          /* 1 = a joined particle stays joined while inside the liquid */
@@ -265,6 +270,7 @@ enum stage_id {
     STAGE_GAS_DIVERGENCE_CHECK,
     STAGE_TURBULENCE,
     STAGE_NEIGHBOUR_COUNT,
+    STAGE_EXCITATION,
     STAGE_COUNT
 };
 #define PLAN_CAPACITY 32
@@ -299,7 +305,7 @@ typedef struct two_phase {
     double *heavy_rho, *gas_rho;     /* densities of the two PPEs' sources */
     double gas_pressure_limit;
     /* diagnostics of the last step */
-    size_t triggered_count, enclosed_count, joined_count;
+    size_t triggered_count, enclosed_count, joined_count, capped_count;
     size_t heavy_unknowns, heavy_iterations, gas_unknowns, gas_iterations;
     double gas_pressure_max;
 } two_phase;
@@ -325,6 +331,7 @@ void interface_drift_apply(mps2p_solver *s, double dt);
 int phases_divergence_check(mps2p_solver *s, double dt);
 /* Two-phase statistics by name (0 when off); MPS2P_ERR_UNKNOWN_KEY if not one. */
 int phases_get_stat(const mps2p_solver *s, const char *key, double *value);
+size_t gas_in_liquid_count(const mps2p_solver *s);                  /* gas_in_liquid.c */
 
 /* ---- solver state (solver.c and the stages) ---- */
 
@@ -372,6 +379,7 @@ struct mps2p_solver {
     uint64_t ppe_iterations_total;
     double ppe_residual;
     int diverged;
+    long diverged_particle; /* the particle a divergence was found at; -1 none */
     char error[ERROR_MESSAGE_SIZE];
 
     /* turbulence (turbulence.c): allocated only when the effect is on */
@@ -460,6 +468,7 @@ void laplacian_at(const mps2p_solver *s, size_t i, const double *field, size_t c
 double timestep_choose(const mps2p_solver *s);                   /* timestep.c */
 void viscosity_apply(mps2p_solver *s, double dt);                 /* explicit_forces.c */
 void gravity_apply(mps2p_solver *s, double dt);                   /* explicit_forces.c */
+void excitation_apply(mps2p_solver *s, double dt);                /* explicit_forces.c */
 void turbulence_apply(mps2p_solver *s, double dt);                /* turbulence.c */
 void advect(mps2p_solver *s, double dt);                          /* explicit_forces.c */
 void collision_apply(mps2p_solver *s, double dt);                 /* collision.c */
@@ -487,6 +496,7 @@ typedef struct ppe_system {
 int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys);
 int pressure_solve_system(mps2p_solver *s, ppe_system *sys);
 void pressure_correct(mps2p_solver *s, double dt);                /* correction.c */
+int diverged_at(mps2p_solver *s, size_t i, int status);           /* divergence.c */
 int divergence_check(mps2p_solver *s, double dt);                 /* divergence.c */
 
 #endif

@@ -55,6 +55,11 @@ static const param_entry table[] = {
      "Cs of the turbulence effect's eddy viscosity (Cs l0)^2 |S|"},
     {"neighbour_skin", FIELD(neighbour_skin), 0.4, 0.0, 5.0,
      "extra radius of the neighbour list, in l0"},
+    {"excitation_acceleration", FIELD(excitation_acceleration), 0.0, -BIG, BIG,
+     "amplitude A of the tank's horizontal acceleration A sin(2 pi t / T), m/s^2 (effect "
+     "excitation)"},
+    {"excitation_period", FIELD(excitation_period), 1.0, 1e-9, BIG,
+     "period T of the tank's horizontal oscillation, s (effect excitation)"},
     /* two phases (docs/two-phase.md): read only when effect two_phase is on */
     {"light_fraction", FIELD(light_fraction), 0.1, 1e-9, 1.0,
      "a fluid lighter than this fraction of the heaviest is light (two-phase)"},
@@ -74,13 +79,19 @@ static const param_entry table[] = {
     {"join_ramp_time", FIELD(join_ramp_time), 0.0, 0.0, 1e6,
      "time over which a joining light particle's weight in the liquid number density ramps "
      "0 to 1, s"},
-    {"gas_liquid_volume", FIELD(gas_liquid_volume), 0.0, 0.0, 2.0,
+    {"gas_liquid_volume", FIELD(gas_liquid_volume), 2.0, 0.0, 2.0,
      "gas's number density: a liquid particle weighs 1 (0), n0 / n_liquid (1) or its initial "
-     "n_liquid / n_liquid (2), in [1, 2]"},
+     "n_liquid / n_liquid (2), in [1, 2] (two_step_improved)"},
     {"gas_cg_tolerance", FIELD(gas_cg_tolerance), 0.0, 0.0, 1e-1,
      "relative residual of the gas CG solve; 0 = cg_tolerance"},
     {"join_hold", FIELD(join_hold), 1.0, 0.0, 1.0,
      "1 = a joined light particle stays joined while more heavy than light neighbours"},
+    {"drift_without_gravity", FIELD(drift_without_gravity), 1.0, 0.0, 1.0,
+     "1 = a drift bubble does not feel gravity (its weight and buoyancy are in the rise "
+     "velocity), 0 = it does"},
+    {"gas_correction_limit", FIELD(gas_correction_limit), 0.2, 0.0, BIG,
+     "largest velocity change the gas pressure gives a light particle in one step, in l0 / dt "
+     "(two_step_improved); 0 = none"},
     {"gas_pressure_limit", FIELD(gas_pressure_limit), 0.0, 0.0, BIG,
      "|gas pressure| above it means diverged (Pa); 0 = 1000 rho_light max(|g| L, 1 m^2/s^2)"},
 };
@@ -183,6 +194,7 @@ static const option_entry options[] = {
 #define EFFECT_OPTION(key, effect)                                               \
     {key, offsetof(params, effect_mode) + (effect) * sizeof(int), {"auto", "on", "off", NULL}}
     EFFECT_OPTION("effect.gravity", EFFECT_GRAVITY),
+    EFFECT_OPTION("effect.excitation", EFFECT_EXCITATION),
     EFFECT_OPTION("effect.viscosity", EFFECT_VISCOSITY),
     EFFECT_OPTION("effect.collision", EFFECT_COLLISION),
     EFFECT_OPTION("effect.two_phase", EFFECT_TWO_PHASE),

@@ -282,6 +282,9 @@ void phases_correct(mps2p_solver *s, double dt)
     double *change = s->scratch;
     const double cm = s->params.bubble_added_mass;
     const double rho_eff = (tp->light_density + cm * tp->heavy_density) / (1.0 + cm);
+    /* the improved model's guard; the conventional model is the paper's */
+    const double cap = tp->improved ? s->params.gas_correction_limit * s->l0 / dt : 0.0;
+    size_t capped = 0;
     for (size_t i = 0; i < s->count; i++) {
         double *du = &change[2 * i];
         du[0] = du[1] = 0.0;
@@ -307,7 +310,16 @@ void phases_correct(mps2p_solver *s, double dt)
         }
         du[0] = -dt / rho * gradient[0];
         du[1] = -dt / rho * gradient[1];
+        if (tp->light[i] && !moves_with_liquid(s, i) && cap > 0.0) {
+            double size = hypot(du[0], du[1]);
+            if (size > cap) {
+                du[0] *= cap / size;
+                du[1] *= cap / size;
+                capped++;
+            }
+        }
     }
+    tp->capped_count = capped;
     if (tp->improved) /* pair, push and continuity act inside the correction */
         interface_reaction_apply(s, dt, change);
     for (size_t i = 0; i < s->count; i++) {
@@ -333,7 +345,7 @@ int phases_divergence_check(mps2p_solver *s, double dt)
         double moved = hypot(s->state.position[2 * i] - s->saved.position[2 * i],
                              s->state.position[2 * i + 1] - s->saved.position[2 * i + 1]);
         if (jump > 0.0 && moved > jump)
-            return fail(s->error, MPS2P_ERR_DIVERGED,
+            return diverged_at(s, i, fail(s->error, MPS2P_ERR_DIVERGED,
                         "diverged at step %llu, t = %.6g s: gas particle %zu (%s) jumped %g l0 "
                         "in one step, to (%g, %g) (limit %g l0); gas pressure %g Pa, liquid "
                         "pressure %g Pa, n/n0 = %.3f, %s, %s, %s",
@@ -344,10 +356,10 @@ int phases_divergence_check(mps2p_solver *s, double dt)
                         tp->heavy_pressure[i], s->number_density[i] / s->n0_density,
                         tp->enclosed[i] ? "enclosed by liquid" : "not enclosed",
                         tp->triggered[i] ? "triggered" : "not triggered",
-                        tp->joined[i] ? "joined the liquid solve" : "gas");
+                        tp->joined[i] ? "joined the liquid solve" : "gas"));
         if (!(fabs(tp->gas_pressure[i]) > tp->gas_pressure_limit))
             continue;
-        return fail(s->error, MPS2P_ERR_DIVERGED,
+        return diverged_at(s, i, fail(s->error, MPS2P_ERR_DIVERGED,
                     "diverged at step %llu, t = %.6g s: gas particle %zu (%s) at (%g, %g) "
                     "has gas pressure %g Pa, beyond the limit %g Pa (n/n0 = %.3f, %s, %s): "
                     "the liquid is closing in on it",
@@ -356,7 +368,7 @@ int phases_divergence_check(mps2p_solver *s, double dt)
                     s->state.position[2 * i + 1], tp->gas_pressure[i], tp->gas_pressure_limit,
                     s->number_density[i] / s->n0_density,
                     tp->enclosed[i] ? "enclosed by liquid" : "not enclosed",
-                    tp->triggered[i] ? "triggered" : "not triggered");
+                    tp->triggered[i] ? "triggered" : "not triggered"));
     }
     return MPS2P_OK;
 }
@@ -370,6 +382,10 @@ int phases_get_stat(const mps2p_solver *s, const char *key, double *value)
         *value = tp ? (double)tp->enclosed_count : 0.0;
     else if (!strcmp(key, "gas_joined"))
         *value = tp ? (double)tp->joined_count : 0.0;
+    else if (!strcmp(key, "gas_in_liquid"))
+        *value = (double)gas_in_liquid_count(s);
+    else if (!strcmp(key, "gas_capped"))
+        *value = tp ? (double)tp->capped_count : 0.0;
     else if (!strcmp(key, "gas_pressure_max"))
         *value = tp ? tp->gas_pressure_max : 0.0;
     else if (!strcmp(key, "gas_ppe_unknowns"))

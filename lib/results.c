@@ -131,6 +131,27 @@ static double pressure_extreme(const mps2p_solver *s, int want_max)
     return result;
 }
 
+/* Closest approach of a fluid particle to any other particle, in l0: MPS
+ * keeps particles apart only through pressure and collisions, so a pair far
+ * inside l0 is an early sign of a squeeze. From the Verlet list, which holds
+ * every pair within its cutoff at the current positions. */
+static double closest_pair(const mps2p_solver *s)
+{
+    const neighbour_rows rows = neighbour_rows_within(&s->neighbours, s->l0);
+    const double *r = s->state.position;
+    double closest = INFINITY;
+    for (size_t i = 0; i < s->count; i++) {
+        if (s->kind[i] != MPS2P_KIND_FLUID)
+            continue;
+        for (size_t k = rows.start[i]; k < rows.start[i + 1]; k++) {
+            size_t j = rows.index[k];
+            double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
+            closest = fmin(closest, dx * dx + dy * dy);
+        }
+    }
+    return sqrt(closest) / s->l0;
+}
+
 int mps2p_solver_get_stat(const mps2p_solver *s, const char *key, double *value)
 {
     CHECK_OUTPUT(s, value);
@@ -165,6 +186,10 @@ int mps2p_solver_get_stat(const mps2p_solver *s, const char *key, double *value)
         *value = s->eddy_viscosity_max;
     else if (!strcmp(key, "dt_next"))
         *value = timestep_choose(s);
+    else if (!strcmp(key, "diverged_particle"))
+        *value = s->diverged ? (double)s->diverged_particle : -1.0;
+    else if (!strcmp(key, "closest_pair"))
+        *value = s->neighbours.start ? closest_pair(s) : INFINITY;
     else if (!strcmp(key, "memory_bytes"))
         *value = (double)solver_memory_bytes(s);
     else if (phases_get_stat(s, key, value) == MPS2P_OK)

@@ -306,6 +306,7 @@ int mps2p_solver_create(const mps2p_scene *scene, mps2p_solver **solver)
     mps2p_solver *s = calloc(1, sizeof *s);
     if (!s)
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory creating a solver");
+    s->diverged_particle = -1;
     int status = build(s, scene);
     if (status == MPS2P_OK)
         status = check_spacing(s);

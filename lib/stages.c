@@ -140,6 +140,12 @@ static int run_liquid_pressure(mps2p_solver *s, double dt)
     return liquid_pressure_solve(s, dt);
 }
 
+static int run_excitation(mps2p_solver *s, double dt)
+{
+    excitation_apply(s, dt);
+    return MPS2P_OK;
+}
+
 static int run_gas_pressure(mps2p_solver *s, double dt)
 {
     return gas_pressure_solve(s, dt);
@@ -192,6 +198,7 @@ static const stage_entry stages[STAGE_COUNT] = {
     [STAGE_BODY_MOTION] = {"body_motion", -1, body_motion_wanted, run_body_motion},
     [STAGE_VISCOSITY] = {"viscosity", EFFECT_VISCOSITY, NULL, run_viscosity},
     [STAGE_GRAVITY] = {"gravity", EFFECT_GRAVITY, NULL, run_gravity},
+    [STAGE_EXCITATION] = {"excitation", EFFECT_EXCITATION, NULL, run_excitation},
     [STAGE_EXTERNAL_FORCES] = {"external_forces", -1, external_forces_wanted,
                                run_external_forces},
     [STAGE_ADVECTION] = {"advection", -1, NULL, run_advection},
@@ -229,7 +236,7 @@ static const stage_entry stages[STAGE_COUNT] = {
 static const int sequence[] = {
     STAGE_NEIGHBOURS,       STAGE_NUMBER_DENSITY_START, STAGE_PHASES_START,
     STAGE_BODY_MOTION,      STAGE_VISCOSITY,            STAGE_TURBULENCE,
-    STAGE_GRAVITY,
+    STAGE_GRAVITY,          STAGE_EXCITATION,
     STAGE_EXTERNAL_FORCES,  STAGE_ADVECTION,            STAGE_NEIGHBOURS,
     STAGE_COLLISION,        STAGE_NEIGHBOURS,           STAGE_NUMBER_DENSITY,
     STAGE_NEIGHBOUR_COUNT,  STAGE_FREE_SURFACE,     STAGE_PRESSURE_ASSEMBLY,    STAGE_PRESSURE_SOLVE,
