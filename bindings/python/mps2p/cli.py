@@ -5,8 +5,11 @@
                               # with one: particles, fluids, effects, dt, without running
     mps2p check SCENE.toml    # read, check and build the scene; print it as JSON
     mps2p study [--quick] [--out DIR]   # the accuracy-cost study
+    mps2p stability SCENE.toml [--until T] [--l0 L] [--model M] [--out FILE.json]
+                              # run with the hard-case checks after every step
 
-Exit status: 0 done, 1 the run diverged or its pressure solve failed, 2 bad input.
+Exit status: 0 done, 1 the run diverged or its pressure solve failed (stability: or
+a check failed), 2 bad input.
 """
 import argparse
 import json
@@ -33,6 +36,15 @@ def main(argv=None):
     study_parser.add_argument("--quick", action="store_true",
                               help="two spacings and few variants (for CI)")
     study_parser.add_argument("--out", default="out/study")
+    stability_parser = commands.add_parser(
+        "stability", help="run a scene with the hard-case checks after every step")
+    stability_parser.add_argument("scene")
+    stability_parser.add_argument("--until", type=float, default=None)
+    stability_parser.add_argument("--l0", type=float, default=None,
+                                  help="another particle spacing (m)")
+    stability_parser.add_argument("--model", default=None,
+                                  help="two_phase_model: two_step or two_step_improved")
+    stability_parser.add_argument("--out", default=None, help="write the report (JSON) here")
     args = parser.parse_args(argv)
     try:
         if args.command == "run":
@@ -44,6 +56,8 @@ def main(argv=None):
             study(args.out, quick=args.quick)
             print("study written to %s (study.csv, study.md, *.png)" % args.out)
             return 0
+        if args.command == "stability":
+            return _stability(args)
         return _info(args)
     except errors.Error as e:
         print("mps2p: %s" % e, file=sys.stderr)
@@ -63,6 +77,30 @@ def _run(args):
         print("mps2p: %s" % summary["reason"], file=sys.stderr)
         return 1
     return 0
+
+
+def _stability(args):
+    from .stability import check_run, gas_in_liquid_peak_and_last
+    options = {"two_phase_model": args.model} if args.model else None
+
+    def show(row):
+        print("t = %.3f s  kinetic %.4g J/m  closest %.3f l0  gas in liquid %s"
+              % (row["time"], row["kinetic_energy"], row["closest_pair"],
+                 row.get("gas_in_liquid", "-")), flush=True)
+
+    report = check_run(args.scene, until=args.until, l0=args.l0, options=options,
+                       sample_every=0.05, progress=show)
+    peak, last = gas_in_liquid_peak_and_last(report)
+    print("%s: %s at t = %.4g s after %d steps; energy ratio max %.3f; closest pair %.3f l0; "
+          "gas in liquid peak %d, last %d" % (args.scene, report["status"], report["time"],
+                                              report["steps"], report["energy_ratio_max"],
+                                              report["closest_min"], peak, last))
+    for check, message in report["violations"].items():
+        print("  %s: %s" % (check, message))
+    if args.out:
+        with open(args.out, "w") as f:
+            json.dump(report, f, indent=1)
+    return 0 if report["status"] == "ok" else 1
 
 
 def _describe(path):

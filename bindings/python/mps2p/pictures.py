@@ -17,23 +17,13 @@ def snapshots_picture(path, snapshots, title, fluid_names, by="pressure"):
     """Particles of up to six snapshots: fluid coloured by pressure, or by phase."""
     if not snapshots:
         return
-    count = len(snapshots)
-    columns = min(3, count)
-    rows = (count + columns - 1) // columns
-    _, xy0, _, _, _ = snapshots[0]
-    # The view: the walls and the initial fluid; spray beyond is cut off.
-    lo, hi = xy0.min(axis=0), xy0.max(axis=0)
-    pad = 0.03 * (hi - lo).max()
-    aspect = (hi[1] - lo[1] + 2 * pad) / (hi[0] - lo[0] + 2 * pad)
-    width = 4.2
-    fig, axes = plt.subplots(rows, columns, figsize=(width * columns + 1.2,
-                                                     width * aspect * rows + 0.8 * rows),
-                             squeeze=False, layout="constrained")
-    fluid = [k == 0 for _, _, _, k, _ in snapshots]
-    pmax = max(float(np.percentile(p[f], 99)) if np.any(f) else 0.0
-               for (_, _, p, _, _), f in zip(snapshots, fluid)) or 1.0
+    fig, axes, lo, hi, pad = _panels(snapshots)
+    fluid = [snap["kinds"] == 0 for snap in snapshots]
+    pmax = max(float(np.percentile(snap["pressure"][f], 99)) if np.any(f) else 0.0
+               for snap, f in zip(snapshots, fluid)) or 1.0
     scatter = None
-    for ax, (t, xy, p, kind, ids), is_fluid in zip(axes.flat, snapshots, fluid):
+    for ax, snap, is_fluid in zip(axes.flat, snapshots, fluid):
+        t, xy, p, ids = snap["time"], snap["positions"], snap["pressure"], snap["fluid_ids"]
         ax.scatter(xy[~is_fluid, 0], xy[~is_fluid, 1], s=1.5, c="0.6", label="walls")
         if by == "pressure":
             scatter = ax.scatter(xy[is_fluid, 0], xy[is_fluid, 1], s=3, c=p[is_fluid],
@@ -49,7 +39,7 @@ def snapshots_picture(path, snapshots, title, fluid_names, by="pressure"):
         ax.set_title("t = %.3f s" % t)
         ax.set_xlabel("x (m)")
         ax.set_ylabel("y (m)")
-    for ax in axes.flat[count:]:
+    for ax in axes.flat[len(snapshots):]:
         ax.axis("off")
     if by == "pressure":
         fig.colorbar(scatter, ax=axes, label="pressure (Pa)", shrink=0.9)
@@ -57,6 +47,87 @@ def snapshots_picture(path, snapshots, title, fluid_names, by="pressure"):
         axes.flat[0].legend(loc="upper right", markerscale=3, fontsize=8)
     fig.suptitle(title)
     fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def _panels(snapshots, width=4.2):
+    """A grid of up to three columns framing the walls and the initial fluid
+    (spray beyond is cut off): figure, axes, lower and upper corner, pad."""
+    count = len(snapshots)
+    columns = min(3, count)
+    rows = (count + columns - 1) // columns
+    xy0 = snapshots[0]["positions"]
+    lo, hi = xy0.min(axis=0), xy0.max(axis=0)
+    pad = 0.03 * (hi - lo).max()
+    aspect = (hi[1] - lo[1] + 2 * pad) / (hi[0] - lo[0] + 2 * pad)
+    fig, axes = plt.subplots(rows, columns, figsize=(width * columns + 1.2,
+                                                     width * aspect * rows + 0.8 * rows),
+                             squeeze=False, layout="constrained")
+    return fig, axes, lo, hi, pad
+
+
+def velocity_picture(path, snapshots, title, fluid_names, fluid, stride=1):
+    """One fluid's velocity as arrows (as the paper's figure 8 draws the air),
+    the other fluids as dots, at each picture snapshot."""
+    if not snapshots:
+        return
+    fig, axes, lo, hi, pad = _panels(snapshots)
+    for ax, snap in zip(axes.flat, snapshots):
+        xy, uv, kinds, ids = (snap["positions"], snap["velocities"], snap["kinds"],
+                              snap["fluid_ids"])
+        ax.scatter(xy[kinds != 0, 0], xy[kinds != 0, 1], s=1.5, c="0.6")
+        for k, name in enumerate(fluid_names):
+            if k != fluid:
+                mine = (kinds == 0) & (ids == k)
+                ax.scatter(xy[mine, 0], xy[mine, 1], s=3, label=name,
+                           c=PHASE_COLOURS[k % len(PHASE_COLOURS)])
+        mine = np.flatnonzero((kinds == 0) & (ids == fluid))[::stride]
+        speed = np.hypot(uv[mine, 0], uv[mine, 1])
+        quiver = ax.quiver(xy[mine, 0], xy[mine, 1], uv[mine, 0], uv[mine, 1], speed,
+                           cmap="plasma", scale_units="xy", angles="xy",
+                           scale=max(float(np.percentile(speed, 99)), 1e-9) / (0.03 * (hi - lo).max()),
+                           width=0.002)
+        ax.set_aspect("equal")
+        ax.set_xlim(lo[0] - pad, hi[0] + pad)
+        ax.set_ylim(lo[1] - pad, hi[1] + pad)
+        ax.set_title("t = %.3f s" % snap["time"])
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
+        fig.colorbar(quiver, ax=ax, label="%s speed (m/s)" % fluid_names[fluid], shrink=0.8)
+    for ax in axes.flat[len(snapshots):]:
+        ax.axis("off")
+    fig.suptitle("%s: %s velocity" % (title, fluid_names[fluid]))
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def zoom_picture(path, snap, particle, half_width, title, fluid_names, reason=""):
+    """The neighbourhood of one particle (where a run diverged), particles by
+    phase with velocity arrows, the particle circled (the paper's figure 3)."""
+    xy, uv, kinds, ids = snap["positions"], snap["velocities"], snap["kinds"], snap["fluid_ids"]
+    centre = xy[particle]
+    near = np.all(np.abs(xy - centre) <= half_width, axis=1)
+    fig, ax = plt.subplots(figsize=(6.5, 6), layout="constrained")
+    ax.scatter(xy[near & (kinds != 0), 0], xy[near & (kinds != 0), 1], s=25, c="0.6",
+               label="walls")
+    for k, name in enumerate(fluid_names):
+        mine = near & (kinds == 0) & (ids == k)
+        colour = PHASE_COLOURS[k % len(PHASE_COLOURS)]
+        ax.scatter(xy[mine, 0], xy[mine, 1], s=25, c=colour, label=name)
+        ax.quiver(xy[mine, 0], xy[mine, 1], uv[mine, 0], uv[mine, 1], color=colour,
+                  angles="xy", width=0.004)
+    ax.scatter([centre[0]], [centre[1]], s=250, facecolors="none", edgecolors="red",
+               label="particle %d" % particle)
+    ax.set_aspect("equal")
+    ax.set_xlim(centre[0] - half_width, centre[0] + half_width)
+    ax.set_ylim(centre[1] - half_width, centre[1] + half_width)
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.legend(loc="upper right", fontsize=8)
+    wrapped = reason if len(reason) < 110 else reason[:107] + "..."
+    ax.set_title("%s\nlast good state, t = %.4f s\n%s" % (title, snap["time"], wrapped),
+                 fontsize=8)
+    fig.savefig(path, dpi=110)
     plt.close(fig)
 
 

@@ -113,13 +113,20 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False):
     probes = Probes(scene_file)
     n = solver.particle_count
     snapshot_times = set(_schedule(end, scene_file.snapshot_every))
+    if scene_file.picture_times:
+        scheduled = snapshot_times | {0.0}
+        picture_times = sorted(_on_schedule(t, scheduled, end)
+                               for t in scene_file.picture_times if t <= end)
+        snapshot_times |= set(t for t in picture_times if t > 0)
+    else:
+        candidates = sorted(snapshot_times | {0.0})
+        picks = np.unique(np.linspace(0, len(candidates) - 1,
+                                      PICTURE_SNAPSHOTS).round().astype(int))
+        picture_times = [candidates[k] for k in picks]
     series_every = scene_file.series_every
     events = sorted(snapshot_times | set(_schedule(end, series_every) if series_every > 0 else []))
-    candidates = sorted(snapshot_times | {0.0})
-    picks = np.unique(np.linspace(0, len(candidates) - 1, PICTURE_SNAPSHOTS).round().astype(int))
-    picture_times = [candidates[k] for k in picks]
     pictures_data, rows = [], []
-    status, reason = "ok", ""
+    status, reason, diverged_particle = "ok", "", -1
     bar = Progress(end, n, progress)
     started = clock.perf_counter()
     with Results(os.path.join(out_dir, "results.h5"), solver, scene_file.text) as results:
@@ -133,8 +140,7 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False):
             results.write_snapshot(solver)
             if pictures and (force_picture or any(abs(solver.time - t) <= 1e-9 * max(1.0, end)
                                                   for t in picture_times)):
-                pictures_data.append((solver.time, solver.positions(), solver.pressure(),
-                                      solver.kinds(), solver.fluid_ids()))
+                pictures_data.append(snapshot_arrays(solver))
 
         sample()
         snapshot()
@@ -155,6 +161,7 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False):
             status = "diverged" if isinstance(e, errors.DivergedError) else "failed"
             reason = str(e)
             snapshot(force_picture=True)  # the last good state
+            diverged_particle = int(solver.stat("diverged_particle"))
         bar.update(solver, final=True)
     wall = clock.perf_counter() - started
     steps = solver.step_count
@@ -179,18 +186,29 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False):
         "memory_bytes": solver.stat("memory_bytes"),
         "final": solver.stats(),
         "probes": probes.names,
+        "diverged_particle": diverged_particle,
     }
     _write_series(os.path.join(out_dir, "series.csv"), probes.names, rows)
     with open(os.path.join(out_dir, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)
     if pictures:
-        from .pictures import front_picture, series_picture, snapshots_picture
+        from .pictures import (front_picture, series_picture, snapshots_picture,
+                               velocity_picture, zoom_picture)
         title = "%s (libmps2p %s, l0 = %g m)" % (scene_file.name, version(), scene_file.l0)
         snapshots_picture(os.path.join(out_dir, "snapshots.png"), pictures_data, title,
                           scene_file.fluids, by="pressure")
         if len(scene_file.fluids) > 1:
             snapshots_picture(os.path.join(out_dir, "snapshots_phase.png"), pictures_data,
                               title, scene_file.fluids, by="phase")
+            densities = [f["density"] for f in scene_file.data["fluid"]]
+            for k, name in enumerate(scene_file.fluids):
+                if densities[k] < max(densities):
+                    velocity_picture(os.path.join(out_dir, "velocity_%s.png" % name),
+                                     pictures_data, title, scene_file.fluids, k)
+        if diverged_particle >= 0 and pictures_data:
+            zoom_picture(os.path.join(out_dir, "divergence.png"), pictures_data[-1],
+                         diverged_particle, 10 * scene_file.l0, title, scene_file.fluids,
+                         reason)
         if probes.names:
             series_picture(os.path.join(out_dir, "series.png"), probes.names, rows)
         for p in scene_file.probes:
@@ -201,6 +219,19 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False):
                               title)
     solver.close()
     return summary
+
+
+def _on_schedule(t, times, end):
+    """t, or the scheduled time it stands for (0.15 and 3 x 0.05 are one time)."""
+    near = [s for s in times if abs(s - t) <= 1e-9 * max(1.0, end)]
+    return near[0] if near else t
+
+
+def snapshot_arrays(solver):
+    """What the pictures draw from one snapshot."""
+    return {"time": solver.time, "positions": solver.positions(),
+            "velocities": solver.velocities(), "pressure": solver.pressure(),
+            "kinds": solver.kinds(), "fluid_ids": solver.fluid_ids()}
 
 
 def _write_series(path, names, rows):

@@ -8,6 +8,7 @@ Layout (every table is optional unless marked):
     l0 = 0.01                   # particle spacing (m), required
     end_time = 1.0              # s, required
     snapshot_every = 0.1        # s between snapshots (0 = first and last only)
+    picture_times = [0.1, 0.4]  # snapshots drawn in the pictures (default: six, evenly)
     series_every = 0.01         # s between probe samples (0 = every step)
 
     [parameters]                # numeric parameters of the C library, by name
@@ -48,10 +49,12 @@ STRING = "string"
 BOOL = "bool"
 BOX = "box"
 POINT = "point"
+TIMES = "times"
 
 SCHEMA = {
     "run": ({"l0": NUMBER, "end_time": NUMBER, "snapshot_every": NUMBER,
-             "series_every": NUMBER, "name": STRING, "description": STRING},
+             "series_every": NUMBER, "name": STRING, "description": STRING,
+             "picture_times": TIMES},
             {"l0", "end_time"}),
     "fluid": ({"name": STRING, "density": NUMBER, "viscosity": NUMBER},
               {"name", "density", "viscosity"}),
@@ -84,6 +87,7 @@ class SceneFile:
         self.end_time = run["end_time"]
         self.snapshot_every = run.get("snapshot_every", 0.0)
         self.series_every = run.get("series_every", 0.0)
+        self.picture_times = run.get("picture_times")
         self.fluids = [f["name"] for f in data.get("fluid", [])]
         self.probes = data.get("probe", [])
 
@@ -238,6 +242,9 @@ def check(path, data):
     for key in ("snapshot_every", "series_every"):
         if key in run and run[key] < 0:
             fail("run." + key, "must be >= 0, got %r" % run[key])
+    for t in run.get("picture_times", []):
+        if not 0 <= t <= run["end_time"]:
+            fail("run.picture_times", "each time must be in [0, end_time], got %r" % t)
     names = [f["name"] for f in data.get("fluid", [])]
     if len(set(names)) != len(names):
         fail("fluid", "fluid names must be unique, got %s" % names)
@@ -295,6 +302,9 @@ def _check_value(fail, key, kind, value):
         fail(key, "must be a string, got %r" % (value,))
     if kind == BOOL and not isinstance(value, bool):
         fail(key, "must be true or false, got %r" % (value,))
+    if kind == TIMES and not (isinstance(value, list) and value and
+                              all(map(_is_number, value)) and len(value) <= 12):
+        fail(key, "must be a list of 1 to 12 numbers, got %r" % (value,))
     if kind in (BOX, POINT):
         size = 4 if kind == BOX else 2
         if not (isinstance(value, list) and len(value) == size and all(map(_is_number, value))):

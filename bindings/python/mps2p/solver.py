@@ -11,9 +11,10 @@ from ._native import ffi, lib
 STAT_KEYS = ("max_speed", "kinetic_energy", "potential_energy", "pressure_min",
              "pressure_max", "ppe_unknowns", "ppe_iterations", "ppe_residual",
              "surface_particles", "n0", "lambda", "neighbour_builds", "ppe_iterations_total",
-             "dt_next", "ppe_analyses", "eddy_viscosity_max", "memory_bytes",
+             "dt_next", "ppe_analyses", "eddy_viscosity_max", "memory_bytes", "closest_pair", "diverged_particle",
              # two phases (0 when effect two_phase is off)
-             "gas_triggered", "gas_enclosed", "gas_joined", "gas_pressure_max",
+             "gas_triggered", "gas_enclosed", "gas_joined", "gas_in_liquid", "gas_capped",
+             "gas_pressure_max",
              "gas_ppe_unknowns", "gas_ppe_iterations", "two_phase_active")
 
 
