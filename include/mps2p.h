@@ -368,18 +368,20 @@ MPS2P_API const char *mps2p_results_last_error(const mps2p_results *results);
 /* Writes everything the next step depends on (state, particle properties,
  * parameters, derived constants, time, step count, last dt, the diverged
  * flag, the neighbour list's reference positions; the wall bodies, their
- * motions and targets, gravity and the accelerations of section 7) to path,
- * atomically: it is
- * written to "<path>.tmp", flushed to disk and renamed over path. A solver
- * with effect two_phase on is refused (MPS2P_ERR_STATE): its two-phase state
- * (join weights and flags) is not saved yet, and a restart would differ. */
+ * motions and targets, gravity and the accelerations of section 7; with
+ * effect two_phase on, the two-phase state that carries into the next step:
+ * join weights, joined flags, the liquid's initial number density, the liquid
+ * and gas pressures) to path, atomically: it is
+ * written to "<path>.tmp", flushed to disk and renamed over path. */
 MPS2P_API int mps2p_solver_save_checkpoint(const mps2p_solver *solver, const char *path);
 
 /* Rebuilds a solver from a checkpoint. Stepping it gives bitwise the results
  * the saved solver would have given (same library build). Refuses, with
  * MPS2P_ERR_IO: a missing or unreadable file, a file that is not a libmps2p
  * checkpoint, a newer format version, datasets of the wrong shape or type,
- * inconsistent contents (kinds, fluid ids, parameters out of range). */
+ * inconsistent contents (kinds, fluid ids, parameters out of range), a
+ * two-phase state missing or out of range where the fluids and parameters
+ * make two phases, or present where they make one. */
 MPS2P_API int mps2p_solver_load_checkpoint(const char *path, mps2p_solver **solver);
 
 /* Samples the particles at count points (points: x0, y0, x1, y1, ...), with
@@ -525,15 +527,16 @@ MPS2P_API int mps2p_solver_advance_window(mps2p_solver *solver, double end_time,
  * checkpoint does: positions, velocities, pressure (the pressure solve's
  * warm start), number density, free-surface flags, the neighbour list's
  * build positions and count, time, step count, last dt, the diverged flag,
- * parameters (gravity included), every body's motion and targets, and the
- * accelerations. Restoring it gives bitwise the run the solver would have
- * had from that point (inputs included: set new ones after restoring), and
+ * parameters (gravity included), every body's motion and targets, the
+ * accelerations, and with two phases what a checkpoint holds of them.
+ * Restoring it gives bitwise the run the solver would have had from that
+ * point (inputs included: set new ones after restoring), and
  * clears a divergence that happened since. A state fits only a solver with
  * the same particles, kinds and bodies (its own, or one created from the same
- * scene): others are refused with MPS2P_ERR_INVALID and nothing changes. It
- * takes about 9 doubles per particle; one state can be restored many times.
- * A two-phase solver (effect two_phase on) is refused with MPS2P_ERR_STATE,
- * as by mps2p_solver_save_checkpoint. */
+ * scene): others, and a state of a single-phase solver into a two-phase one
+ * or the other way round, are refused with MPS2P_ERR_INVALID and nothing
+ * changes. It takes about 9 doubles per particle (4 doubles and 2 bytes more
+ * with two phases); one state can be restored many times. */
 typedef struct mps2p_state mps2p_state;
 
 MPS2P_API int mps2p_solver_save_state(const mps2p_solver *solver, mps2p_state **state);

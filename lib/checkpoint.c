@@ -16,8 +16,10 @@
 #define CHECKPOINT_FORMAT "libmps2p checkpoint"
 /* 2 added the wall bodies and the host's inputs (group "bodies", body_id and
  * acceleration in "particles"); version 1 files load with every solid in
- * body 0 and no inputs, as they were written. */
-#define CHECKPOINT_FORMAT_VERSION 2
+ * body 0 and no inputs, as they were written. 3 added group "two_phase",
+ * written by a two-phase solver only; versions 1 and 2 were never written by
+ * one (refused then), so a file of theirs that makes one is refused. */
+#define CHECKPOINT_FORMAT_VERSION 3
 /* as in scene.c: the pressure matrix uses int indices */
 #define MAX_PARTICLES ((size_t)INT_MAX / 2)
 
@@ -200,6 +202,55 @@ done:
     return status;
 }
 
+/* Counters of the two-phase state's last step (phases_carry.c), as uint64
+ * attributes of group "two_phase". */
+#define TWO_PHASE_COUNTER(name) {#name, offsetof(two_phase, name)}
+static const struct { const char *name; size_t offset; } two_phase_counters[] = {
+    TWO_PHASE_COUNTER(triggered_count), TWO_PHASE_COUNTER(enclosed_count),
+    TWO_PHASE_COUNTER(joined_count),    TWO_PHASE_COUNTER(heavy_unknowns),
+    TWO_PHASE_COUNTER(heavy_iterations), TWO_PHASE_COUNTER(gas_unknowns),
+    TWO_PHASE_COUNTER(gas_iterations),
+};
+#define TWO_PHASE_COUNTER_COUNT (sizeof two_phase_counters / sizeof two_phase_counters[0])
+
+/* Group "two_phase": what of the two-phase state carries into the next step
+ * (phases_carry.c), one dataset per array, the scalars as attributes. */
+static int write_two_phase(h5_context *ctx, hid_t file, const mps2p_solver *s)
+{
+    const two_phase *tp = s->phases;
+    hid_t group = H5Gcreate2(file, "two_phase", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (group < 0) {
+        h5_note(ctx);
+        return -1;
+    }
+    hsize_t dims[1] = {s->count};
+    int status = 0;
+    for (size_t k = 0; status == 0 && k < PHASES_CARRIED_ARRAYS; k++) {
+        const phases_array *a = &phases_carried[k];
+        status = h5_write_dataset(ctx, group, a->name,
+                                  a->is_double ? H5T_NATIVE_DOUBLE : H5T_NATIVE_UCHAR, 1, dims,
+                                  phases_array_data(tp, a));
+    }
+    if (status == 0)
+        status = h5_write_attribute(ctx, group, "have_initial", H5T_NATIVE_INT, 1,
+                                    &tp->have_initial);
+    if (status == 0)
+        status = h5_write_attribute(ctx, group, "gas_pressure_limit", H5T_NATIVE_DOUBLE, 1,
+                                    &tp->gas_pressure_limit);
+    if (status == 0)
+        status = h5_write_attribute(ctx, group, "gas_pressure_max", H5T_NATIVE_DOUBLE, 1,
+                                    &tp->gas_pressure_max);
+    for (size_t k = 0; status == 0 && k < TWO_PHASE_COUNTER_COUNT; k++) {
+        size_t value;
+        memcpy(&value, (const char *)tp + two_phase_counters[k].offset, sizeof value);
+        uint64_t stored = value;
+        status = h5_write_attribute(ctx, group, two_phase_counters[k].name, H5T_NATIVE_UINT64,
+                                    1, &stored);
+    }
+    H5Gclose(group);
+    return status;
+}
+
 int mps2p_solver_save_checkpoint(const mps2p_solver *s, const char *path)
 {
     if (!s)
@@ -208,12 +259,6 @@ int mps2p_solver_save_checkpoint(const mps2p_solver *s, const char *path)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_save_checkpoint: path is NULL");
     if (!path[0])
         return fail(NULL, MPS2P_ERR_INVALID, "mps2p_solver_save_checkpoint: path is empty");
-    /* as mps2p_solver_save_state (state.c): no checkpoint that would not
-     * restart bit for bit */
-    if (s->phases)
-        return fail(NULL, MPS2P_ERR_STATE,
-                    "mps2p_solver_save_checkpoint: a two-phase solver (effect two_phase on) "
-                    "cannot be checkpointed yet: its join weights and flags are not saved");
     char *temporary = path_join_suffix(path, strlen(path), ".tmp");
     if (!temporary)
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory saving checkpoint \"%s\"", path);
@@ -231,7 +276,8 @@ int mps2p_solver_save_checkpoint(const mps2p_solver *s, const char *path)
         int written = write_root(&ctx, file, s) == 0 && h5_write_parameters(&ctx, file, s) == 0 &&
                       h5_write_fluids(&ctx, file, s) == 0 &&
                       write_particles(&ctx, file, s) == 0 && write_neighbours(&ctx, file, s) == 0 &&
-                      write_bodies(&ctx, file, s) == 0;
+                      write_bodies(&ctx, file, s) == 0 &&
+                      (!s->phases || write_two_phase(&ctx, file, s) == 0);
         if (!written)
             status = h5_fail(&ctx, NULL, "cannot write \"%s\"", temporary);
         if (H5Fclose(file) < 0 && status == MPS2P_OK) {
@@ -535,6 +581,73 @@ static int read_bodies(h5_context *ctx, hid_t file, mps2p_solver *s)
     return status;
 }
 
+/* Reads group "two_phase" into the loaded solver's s->phases, allocated by
+ * its plan from the fluids and parameters: a file has the group exactly
+ * when they make a two-phase solver. */
+static int read_two_phase(h5_context *ctx, hid_t file, mps2p_solver *s, int version)
+{
+    htri_t has_group = H5Lexists(file, "two_phase", H5P_DEFAULT);
+    if (has_group < 0) {
+        h5_note(ctx);
+        return -1;
+    }
+    if (has_group > 0 && !s->phases) {
+        h5_note_text(ctx, "it holds a two-phase state (group two_phase), but its fluids and "
+                     "parameters make a single-phase solver");
+        return -1;
+    }
+    if (!s->phases)
+        return 0;
+    if (has_group == 0) {
+        if (version < 3)
+            h5_note_text(ctx, "its fluids and parameters make a two-phase solver (effect "
+                         "two_phase on), which format version %d cannot hold", version);
+        else
+            h5_note_text(ctx, "its fluids and parameters make a two-phase solver (effect "
+                         "two_phase on), but it has no group two_phase");
+        return -1;
+    }
+    hid_t group = H5Gopen2(file, "two_phase", H5P_DEFAULT);
+    if (group < 0) {
+        h5_note(ctx);
+        return -1;
+    }
+    two_phase *tp = s->phases;
+    hsize_t dims[1] = {s->count};
+    int status = 0;
+    for (size_t k = 0; status == 0 && k < PHASES_CARRIED_ARRAYS; k++) {
+        const phases_array *a = &phases_carried[k];
+        status = h5_read_dataset(ctx, group, a->name,
+                                 a->is_double ? H5T_NATIVE_DOUBLE : H5T_NATIVE_UCHAR, 1, dims,
+                                 phases_array_data(tp, a));
+    }
+    if (status == 0)
+        status = h5_read_attribute(ctx, group, "have_initial", H5T_NATIVE_INT, 1,
+                                   &tp->have_initial);
+    if (status == 0)
+        status = h5_read_attribute(ctx, group, "gas_pressure_limit", H5T_NATIVE_DOUBLE, 1,
+                                   &tp->gas_pressure_limit);
+    if (status == 0)
+        status = h5_read_attribute(ctx, group, "gas_pressure_max", H5T_NATIVE_DOUBLE, 1,
+                                   &tp->gas_pressure_max);
+    for (size_t k = 0; status == 0 && k < TWO_PHASE_COUNTER_COUNT; k++) {
+        uint64_t stored = 0;
+        status = h5_read_attribute(ctx, group, two_phase_counters[k].name, H5T_NATIVE_UINT64, 1,
+                                   &stored);
+        size_t value = (size_t)stored;
+        memcpy((char *)tp + two_phase_counters[k].offset, &value, sizeof value);
+    }
+    H5Gclose(group);
+    char why[ERROR_MESSAGE_SIZE];
+    if (status == 0 && phases_carried_check(s, why, sizeof why) != 0) {
+        h5_note_text(ctx, "%s", why);
+        status = -1;
+    }
+    if (status == 0)
+        phases_carried_rebuild(s);
+    return status;
+}
+
 /* Reads the open file into a new solver; MPS2P_ERR_IO (detail noted) or
  * MPS2P_ERR_NOMEM on failure, with *out left NULL. */
 static int load(h5_context *ctx, hid_t file, mps2p_solver **out)
@@ -574,6 +687,9 @@ static int load(h5_context *ctx, hid_t file, mps2p_solver **out)
     if (status == MPS2P_OK && neighbours_restore(&s->neighbours, built_at,
                                                  (unsigned long)builds) != MPS2P_OK)
         status = fail(NULL, MPS2P_ERR_NOMEM, "out of memory for the neighbour list");
+    /* after solver_start: its plan allocated s->phases if the file makes two phases */
+    if (status == MPS2P_OK && read_two_phase(ctx, file, s, version) != 0)
+        status = MPS2P_ERR_IO;
     if (status == MPS2P_OK) {
         memcpy(s->saved.position, s->state.position, 2 * count * sizeof(double));
         memcpy(s->saved.velocity, s->state.velocity, 2 * count * sizeof(double));

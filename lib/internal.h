@@ -333,6 +333,31 @@ int phases_divergence_check(mps2p_solver *s, double dt);
 int phases_get_stat(const mps2p_solver *s, const char *key, double *value);
 size_t gas_in_liquid_count(const mps2p_solver *s);                  /* gas_in_liquid.c */
 
+/* What of s->phases carries from one step into the next, for
+ * mps2p_solver_save_state and checkpoints (phases_carry.c says why each
+ * member, and why not the others): these per-particle arrays, have_initial,
+ * gas_pressure_limit and the last step's counts; heavy_mask is rebuilt. */
+typedef struct phases_array {
+    const char *name;  /* the member, and its dataset in a checkpoint */
+    int is_double;     /* else flags (unsigned char, 0 or 1) */
+    size_t offset;     /* of the member (a pointer) in struct two_phase */
+} phases_array;
+#define PHASES_CARRIED_ARRAYS 5
+extern const phases_array phases_carried[PHASES_CARRIED_ARRAYS];
+void *phases_array_data(const two_phase *tp, const phases_array *a);
+size_t phases_array_bytes(const phases_array *a, size_t count);
+/* A struct two_phase holding only the carried members of s->phases, and
+ * light (a state fits only a solver with the same light particles); the
+ * other arrays NULL. NULL when out of memory; freed with phases_free. */
+two_phase *phases_copy_carried(const mps2p_solver *s);
+/* Puts from's carried members into s->phases, then rebuilds heavy_mask. */
+void phases_put_carried(mps2p_solver *s, const two_phase *from);
+/* heavy_mask from light and join_weight, as the last step left it. */
+void phases_carried_rebuild(mps2p_solver *s);
+/* 0 when the carried members of s->phases are in range (a loaded file's),
+ * else -1 with the reason in why. */
+int phases_carried_check(const mps2p_solver *s, char *why, size_t size);
+
 /* ---- solver state (solver.c and the stages) ---- */
 
 typedef struct particle_state {

@@ -2,7 +2,9 @@
  * everything the next step depends on (what a checkpoint holds), saved and
  * put back without a file, so that a window can be taken again with other
  * inputs. The particles' properties, derived constants and bodies' members
- * never change after creation: they are compared, not copied. */
+ * never change after creation: they are compared, not copied. With two
+ * phases, the members of the two-phase state that carry into the next step
+ * (phases_carry.c) are copied too. */
 #include "coupling.h"
 
 #include <stdio.h>
@@ -30,6 +32,8 @@ struct mps2p_state {
     double (*motion)[5];
     double **target;
     double *acceleration;
+    /* the carried two-phase members, and light; NULL for a single-phase solver */
+    struct two_phase *phases;
 };
 
 void mps2p_state_destroy(mps2p_state *st)
@@ -49,6 +53,7 @@ void mps2p_state_destroy(mps2p_state *st)
     free(st->target);
     free(st->motion);
     free(st->acceleration);
+    phases_free(st->phases);
     free(st);
 }
 
@@ -76,7 +81,8 @@ static int copy_arrays(mps2p_state *st, const mps2p_solver *s)
              (st->motion = malloc((size_t)c->body_count * sizeof *st->motion)) &&
              (st->target = calloc((size_t)c->body_count, sizeof *st->target)) &&
              (!c->acceleration ||
-              (st->acceleration = copy_of(c->acceleration, 2 * n * sizeof(double))));
+              (st->acceleration = copy_of(c->acceleration, 2 * n * sizeof(double)))) &&
+             (!s->phases || (st->phases = phases_copy_carried(s)));
     for (int b = 0; ok && b < c->body_count; b++) {
         const body *bd = &c->bodies[b];
         st->motion[b][0] = bd->velocity[0];
@@ -97,13 +103,6 @@ int mps2p_solver_save_state(const mps2p_solver *s, mps2p_state **state)
     *state = NULL;
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_save_state: solver is NULL");
-    /* The two-phase state (join weights, joined flags, the liquid's initial
-     * number density) decides the next step and is not saved yet: a restore
-     * would not continue bit for bit, so refuse rather than diverge silently. */
-    if (s->phases)
-        return fail(NULL, MPS2P_ERR_STATE,
-                    "mps2p_solver_save_state: a two-phase solver (effect two_phase on) "
-                    "cannot save its state yet: its join weights and flags are not saved");
     mps2p_state *st = calloc(1, sizeof *st);
     if (st) {
         st->count = s->count;
@@ -131,14 +130,17 @@ int mps2p_solver_save_state(const mps2p_solver *s, mps2p_state **state)
     return MPS2P_OK;
 }
 
-/* The same particles, kinds and bodies: a state fits only its own solver
- * (or one built from the same scene). */
+/* The same particles, kinds and bodies, and two phases (with the same light
+ * particles) or not: a state fits only its own solver (or one built from
+ * the same scene). */
 static int same_shape(const mps2p_solver *s, const mps2p_state *st)
 {
     return st->count == s->count && st->fluid_count == s->fluid_count &&
            st->body_count == s->coupling->body_count &&
            memcmp(st->kind, s->kind, s->count * sizeof *s->kind) == 0 &&
-           memcmp(st->body_of, s->coupling->body_of, s->count * sizeof *st->body_of) == 0;
+           memcmp(st->body_of, s->coupling->body_of, s->count * sizeof *st->body_of) == 0 &&
+           !st->phases == !s->phases &&
+           (!s->phases || memcmp(st->phases->light, s->phases->light, s->count) == 0);
 }
 
 /* Buffers the solver lacks for the state's targets and accelerations, all
@@ -196,9 +198,11 @@ int mps2p_solver_restore_state(mps2p_solver *s, const mps2p_state *st)
     if (!same_shape(s, st))
         return fail(s->error, MPS2P_ERR_INVALID,
                     "mps2p_solver_restore_state: the state is of another solver (%zu particles, "
-                    "%d fluids, %d bodies; this one has %zu, %d, %d, or other kinds or bodies)",
-                    st->count, st->fluid_count, st->body_count, s->count, s->fluid_count,
-                    s->coupling->body_count);
+                    "%d fluids, %d bodies, %s; this one has %zu, %d, %d, %s, or other kinds, "
+                    "bodies or light particles)",
+                    st->count, st->fluid_count, st->body_count,
+                    st->phases ? "two phases" : "one phase", s->count, s->fluid_count,
+                    s->coupling->body_count, s->phases ? "two phases" : "one phase");
     double **fresh = calloc((size_t)st->body_count, sizeof *fresh), *acceleration = NULL;
     if (!fresh || !reserve_inputs(s, st, fresh, &acceleration)) {
         for (int b = 0; fresh && b < st->body_count; b++)
@@ -227,6 +231,8 @@ int mps2p_solver_restore_state(mps2p_solver *s, const mps2p_state *st)
     s->ppe_iterations = st->ppe_iterations;
     s->surface_particles = st->surface_particles;
     s->diverged = st->diverged;
+    if (s->phases)
+        phases_put_carried(s, st->phases);
 
     /* the same pairs as when saved: rebuilt from the build positions unless
      * the list still holds them */

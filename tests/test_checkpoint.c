@@ -246,6 +246,100 @@ static void shorten_dataset(const char *path, const char *name)
     H5Fclose(file);
 }
 
+/* Sets every value of a dataset (converted to its type), as a crafted file would. */
+static void fill_dataset(const char *path, const char *name, double value)
+{
+    hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    hid_t dataset = H5Dopen2(file, name, H5P_DEFAULT);
+    hid_t space = H5Dget_space(dataset);
+    hssize_t count = H5Sget_simple_extent_npoints(space);
+    double *values = malloc((size_t)(count > 0 ? count : 1) * sizeof *values);
+    for (hssize_t i = 0; i < count; i++)
+        values[i] = value;
+    CHECK(H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values) >= 0,
+          "cannot write %s", name);
+    free(values);
+    H5Sclose(space);
+    H5Dclose(dataset);
+    H5Fclose(file);
+}
+
+static void delete_link(const char *path, const char *name)
+{
+    hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    CHECK(H5Ldelete(file, name, H5P_DEFAULT) >= 0, "cannot delete %s", name);
+    H5Fclose(file);
+}
+
+/* Format 3: group two_phase, written by a two-phase solver, must be there,
+ * whole and in range exactly when the fluids and parameters make two
+ * phases; anything else is refused, never half loaded. (Restarts are
+ * bitwise: test_two_phase_restart.) */
+static void two_phase_files(const char *dir, const char *single_phase)
+{
+    char path[256], other[256];
+    snprintf(path, sizeof path, "%s/two-phase.chk", dir);
+    snprintf(other, sizeof other, "%s/damaged.chk", dir);
+    mps2p_scene *scene = water_air_column_scene(0.05, NULL);
+    mps2p_solver *solver, *loaded = NULL;
+    MUST(mps2p_solver_create(scene, &solver));
+    mps2p_scene_destroy(scene);
+    for (int k = 0; k < 3; k++)
+        MUST(mps2p_solver_step(solver));
+    MUST(mps2p_solver_save_checkpoint(solver, path));
+    mps2p_solver_destroy(solver);
+    MUST(mps2p_solver_load_checkpoint(path, &loaded));
+    double active = 0.0;
+    MUST(mps2p_solver_get_stat(loaded, "two_phase_active", &active));
+    CHECK(active == 1.0, "a two-phase checkpoint loaded as one phase");
+    MUST(mps2p_solver_step(loaded));
+    mps2p_solver_destroy(loaded);
+
+    const struct { const char *edit, *fragment; } damage[] = {
+        {"/two_phase", "has no group two_phase"},
+        {"/two_phase/join_weight", "dataset join_weight is missing"},
+        {"/two_phase/gas_pressure", "dataset gas_pressure is missing"},
+    };
+    for (size_t k = 0; k < sizeof damage / sizeof damage[0]; k++) {
+        copy_prefix(path, other, 1.0);
+        delete_link(other, damage[k].edit);
+        expect_refused(other, damage[k].fragment);
+    }
+    copy_prefix(path, other, 1.0);
+    delete_link(other, "/two_phase");
+    set_format_version(other, 2);
+    expect_refused(other, "format version 2 cannot hold");
+    copy_prefix(path, other, 1.0);
+    shorten_dataset(other, "/two_phase/heavy_pressure");
+    expect_refused(other, "dataset heavy_pressure has shape (3)");
+    copy_prefix(path, other, 1.0);
+    fill_dataset(other, "/two_phase/join_weight", 2.0);
+    expect_refused(other, "two-phase state of particle 0 is inconsistent");
+    copy_prefix(path, other, 1.0);
+    fill_dataset(other, "/two_phase/joined", 1.0); /* liquid particles too */
+    expect_refused(other, "is inconsistent (not light");
+    copy_prefix(path, other, 1.0);
+    fill_dataset(other, "/two_phase/heavy_n_initial", NAN);
+    expect_refused(other, "is inconsistent");
+    copy_prefix(path, other, 1.0);
+    hid_t file = H5Fopen(other, H5F_ACC_RDWR, H5P_DEFAULT);
+    CHECK(H5Adelete_by_name(file, "two_phase", "have_initial", H5P_DEFAULT) >= 0,
+          "cannot delete have_initial");
+    H5Fclose(file);
+    expect_refused(other, "attribute have_initial is missing");
+
+    /* a single-phase solver's file with a two-phase group */
+    copy_prefix(single_phase, other, 1.0);
+    file = H5Fopen(other, H5F_ACC_RDWR, H5P_DEFAULT);
+    hid_t group = H5Gcreate2(file, "two_phase", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    CHECK(group >= 0, "cannot add a group to %s", other);
+    H5Gclose(group);
+    H5Fclose(file);
+    expect_refused(other, "make a single-phase solver");
+    remove(path);
+    remove(other);
+}
+
 int main(void)
 {
     char dir[] = "/tmp/mps2p-checkpoint-XXXXXX";
@@ -283,8 +377,8 @@ int main(void)
 
     snprintf(other, sizeof other, "%s/newer.chk", dir);
     MUST(mps2p_solver_save_checkpoint(solver, other));
-    set_format_version(other, 3);
-    expect_refused(other, "format version 3 is newer");
+    set_format_version(other, 4);
+    expect_refused(other, "format version 4 is newer");
 
     /* a version 1 file (no bodies, no inputs) loads with every solid in body 0 */
     snprintf(other, sizeof other, "%s/version1.chk", dir);
@@ -309,6 +403,8 @@ int main(void)
     MUST(mps2p_solver_save_checkpoint(solver, other));
     shorten_dataset(other, "/particles/pressure");
     expect_refused(other, "dataset pressure has shape (3)");
+
+    two_phase_files(dir, path);
 
     snprintf(other, sizeof other, "%s/half.chk", dir);
     copy_prefix(path, other, 0.5);

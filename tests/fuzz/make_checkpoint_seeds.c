@@ -1,17 +1,19 @@
 /* Writes the checkpoint fuzzer's seeds: small real checkpoints (a few
  * dozen particles) with each pressure solver and option, one diverged-free
- * run after some steps, into the directory given. Run by hand when the
- * format changes: build-fuzz/tests/fuzz/make_checkpoint_seeds DIR. */
+ * run after some steps, and a two-phase one (format 3: group two_phase),
+ * into the directory given. Run by hand when the format changes:
+ * build-fuzz/tests/fuzz/make_checkpoint_seeds DIR (the seeds of format 2
+ * kept in the corpus still cover reading older files). */
 #include <mps2p.h>
 
 #include <stdio.h>
 
 static int make(const char *dir, const char *name, const char *solver_name, int steps,
-                int closed)
+                int closed, int with_air)
 {
     mps2p_scene *scene;
     mps2p_solver *solver;
-    int water, status;
+    int water, air, status;
     char path[4096];
     snprintf(path, sizeof path, "%s/%s", dir, name);
     if ((status = mps2p_scene_create(0.05, &scene)) != MPS2P_OK)
@@ -19,6 +21,13 @@ static int make(const char *dir, const char *name, const char *solver_name, int 
     status = mps2p_scene_add_fluid(scene, "water", 1000, 1e-6, &water);
     if (!status)
         status = mps2p_scene_add_fluid_box(scene, water, 0, 0, 0.15, 0.1);
+    /* air beside and above the water: effect two_phase on */
+    if (!status && with_air)
+        status = mps2p_scene_add_fluid(scene, "air", 1.2, 1.5e-5, &air);
+    if (!status && with_air)
+        status = mps2p_scene_add_fluid_box(scene, air, 0.15, 0, 0.25, 0.15);
+    if (!status && with_air)
+        status = mps2p_scene_add_fluid_box(scene, air, 0, 0.1, 0.15, 0.15);
     if (!status)
         status = mps2p_scene_add_tank(scene, 0, 0, 0.25, 0.2, !closed);
     if (!status)
@@ -45,7 +54,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: make_checkpoint_seeds DIR\n");
         return 2;
     }
-    return make(argv[1], "cholmod-start.chk", "cholmod", 0, 0) ||
-           make(argv[1], "cholmod-5-steps.chk", "cholmod", 5, 0) ||
-           make(argv[1], "cg-3-steps.chk", "cg", 3, 1);
+    return make(argv[1], "cholmod-start.chk", "cholmod", 0, 0, 0) ||
+           make(argv[1], "cholmod-5-steps.chk", "cholmod", 5, 0, 0) ||
+           make(argv[1], "cg-3-steps.chk", "cg", 3, 1, 0) ||
+           make(argv[1], "two-phase-3-steps.chk", "cg", 3, 1, 1);
 }
