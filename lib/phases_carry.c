@@ -59,6 +59,7 @@ static void copy_scalars(two_phase *to, const two_phase *from)
     to->triggered_count = from->triggered_count;
     to->enclosed_count = from->enclosed_count;
     to->joined_count = from->joined_count;
+    to->capped_count = from->capped_count; /* not in checkpoints: 0 after a load */
     to->heavy_unknowns = from->heavy_unknowns;
     to->heavy_iterations = from->heavy_iterations;
     to->gas_unknowns = from->gas_unknowns;
