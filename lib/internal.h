@@ -283,6 +283,7 @@ enum stage_id {
  * density below light_fraction of the heaviest, and two_phase_model not
  * "single"); a single-phase solver never holds one. */
 typedef struct two_phase {
+    struct two_phase *before_step; /* the carried state at the step's start, for rollback */
     int improved;               /* effect interface_reaction is on */
     double heavy_density;       /* of the heaviest fluid */
     double light_density;       /* of the heaviest light fluid */
@@ -352,6 +353,8 @@ size_t phases_array_bytes(const phases_array *a, size_t count);
 two_phase *phases_copy_carried(const mps2p_solver *s);
 /* Puts from's carried members into s->phases, then rebuilds heavy_mask. */
 void phases_put_carried(mps2p_solver *s, const two_phase *from);
+/* Into s->phases->before_step at a step's start; put back when it fails. */
+void phases_save_before_step(mps2p_solver *s);
 /* heavy_mask from light and join_weight, as the last step left it. */
 void phases_carried_rebuild(mps2p_solver *s);
 /* 0 when the carried members of s->phases are in range (a loaded file's),

@@ -27,15 +27,17 @@ double phases_light_density(const mps2p_solver *s, double *heaviest)
     return light;
 }
 
-/* Per particle: 9 flags and 11 doubles (the arrays of struct two_phase). */
-#define PHASES_FLAGS 9
-#define PHASES_DOUBLES 11
+/* Per particle: 9 flags and 11 doubles (the arrays of struct two_phase),
+ * and the rollback copy of what carries into the next step: 2 flags (light,
+ * joined) and 4 doubles (phases_carry.c). */
+#define PHASES_FLAGS (9 + 2)
+#define PHASES_DOUBLES (11 + 4)
 
 size_t phases_memory_bytes(const mps2p_solver *s)
 {
     if (!s->phases)
         return 0;
-    return sizeof *s->phases + s->count * (PHASES_FLAGS + PHASES_DOUBLES * sizeof(double));
+    return 2 * sizeof *s->phases + s->count * (PHASES_FLAGS + PHASES_DOUBLES * sizeof(double));
 }
 
 void phases_free(two_phase *tp)
@@ -62,6 +64,7 @@ void phases_free(two_phase *tp)
     free(tp->heavy_n_initial);
     free(tp->heavy_rho);
     free(tp->gas_rho);
+    phases_free(tp->before_step);
     free(tp);
 }
 
@@ -117,6 +120,13 @@ int phases_init(mps2p_solver *s)
                                  ? s->params.gas_pressure_limit
                                  : 1000.0 * light_density * fmax(g * extent, 1.0);
     s->phases = tp;
+    /* a failed step puts the carried state back, as it does the particles */
+    tp->before_step = phases_copy_carried(s);
+    if (!tp->before_step) {
+        s->phases = NULL;
+        phases_free(tp);
+        return MPS2P_ERR_NOMEM;
+    }
     return MPS2P_OK;
 }
 

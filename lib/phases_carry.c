@@ -95,6 +95,17 @@ two_phase *phases_copy_carried(const mps2p_solver *s)
     return copy;
 }
 
+void phases_save_before_step(mps2p_solver *s)
+{
+    two_phase *tp = s->phases, *to = tp->before_step;
+    for (size_t k = 0; k < PHASES_CARRIED_ARRAYS; k++) {
+        const phases_array *a = &phases_carried[k];
+        memcpy(phases_array_data(to, a), phases_array_data(tp, a),
+               phases_array_bytes(a, s->count));
+    }
+    copy_scalars(to, tp);
+}
+
 void phases_carried_rebuild(mps2p_solver *s)
 {
     two_phase *tp = s->phases;

@@ -323,6 +323,8 @@ static void save_state(mps2p_solver *s)
     memcpy(s->saved.position, s->state.position, 2 * s->count * sizeof(double));
     memcpy(s->saved.velocity, s->state.velocity, 2 * s->count * sizeof(double));
     memcpy(s->saved.pressure, s->state.pressure, s->count * sizeof(double));
+    if (s->phases)
+        phases_save_before_step(s);
 }
 
 static void restore_state(mps2p_solver *s)
@@ -330,6 +332,8 @@ static void restore_state(mps2p_solver *s)
     memcpy(s->state.position, s->saved.position, 2 * s->count * sizeof(double));
     memcpy(s->state.velocity, s->saved.velocity, 2 * s->count * sizeof(double));
     memcpy(s->state.pressure, s->saved.pressure, s->count * sizeof(double));
+    if (s->phases)
+        phases_put_carried(s, s->phases->before_step);
 }
 
 /* One step of length dt: the plan of stages (stages.c), rolled back on failure. */
