@@ -58,6 +58,12 @@ def _panels(snapshots, width=4.2):
     rows = (count + columns - 1) // columns
     xy0 = snapshots[0]["positions"]
     lo, hi = xy0.min(axis=0), xy0.max(axis=0)
+    # with a light fluid filling the tank above the liquid, walls far above it
+    # (headroom for the air) would only shrink the flow
+    fluid = snapshots[0]["kinds"] == 0
+    if np.unique(snapshots[0]["fluid_ids"][fluid]).size > 1:
+        fluid_top = xy0[fluid, 1].max()
+        hi[1] = min(hi[1], fluid_top + 0.1 * (fluid_top - lo[1]))
     pad = 0.03 * (hi - lo).max()
     aspect = (hi[1] - lo[1] + 2 * pad) / (hi[0] - lo[0] + 2 * pad)
     fig, axes = plt.subplots(rows, columns, figsize=(width * columns + 1.2,
