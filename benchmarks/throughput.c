@@ -12,9 +12,10 @@
  *              ones (t < 0.01 s), well before the prototype's divergence
  *              (after 0.2 s, docs/two-phase.md).
  *
- * For each: particles, wall time per step (after 3 warm-up steps), particle-
- * steps per second, time per simulated second (wall per step / dt), memory
- * per particle, and the fitted growth exponents. Prints Markdown.
+ * For each: particles, wall time and CPU time per step (after 3 warm-up
+ * steps), particle-steps per second (wall), time per simulated second (wall
+ * per step / dt), memory per particle, and the fitted growth exponents (of
+ * wall and CPU time). Prints Markdown.
  *
  *   throughput [steps [solver [case] [l0 ...]]]
  *       solver: cholmod (default) or cg; case: water (default) or two_phase */
@@ -34,12 +35,18 @@ static void check(int status, const char *what)
     }
 }
 
-static double now(void)
+static double seconds(clockid_t clock)
 {
     struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
+    clock_gettime(clock, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
+
+static double now(void) { return seconds(CLOCK_MONOTONIC); }
+
+/* this process's CPU time: on a shared machine, wall time includes waiting for
+ * a core; CPU time (one thread) mostly does not */
+static double cpu_now(void) { return seconds(CLOCK_PROCESS_CPUTIME_ID); }
 
 /* least-squares slope of log y against log x */
 static double slope(const double *x, const double *y, int n)
@@ -75,7 +82,7 @@ int main(int argc, char **argv)
     for (int k = 0; k < count; k++)
         levels[k] = argc > first ? atof(argv[first + k]) : default_levels[k];
 
-    double particles[16], per_step[16], memory[16];
+    double particles[16], per_step[16], cpu_per_step[16], memory[16];
     if (two_phase)
         printf("Two-phase dam break (water 0.15 m x 0.3 m, air to 0.7 m, 0.6 m tank; "
                "two_step_improved, drift), pressure solver %s, %d steps after 3 warm-up "
@@ -83,9 +90,9 @@ int main(int argc, char **argv)
     else
         printf("Water-only dam break (1 m x 2 m column, 4 m tank), pressure solver %s, "
                "%d steps after 3 warm-up steps:\n\n", solver_kind, steps);
-    printf("| l0 (m) | particles | ms per step | particle-steps/s | dt (s) | "
+    printf("| l0 (m) | particles | ms per step | CPU ms per step | particle-steps/s | dt (s) | "
            "wall s per simulated s | memory bytes per particle |\n");
-    printf("|---|---|---|---|---|---|---|\n");
+    printf("|---|---|---|---|---|---|---|---|\n");
     for (int k = 0; k < count; k++) {
         mps2p_scene *scene;
         int water;
@@ -114,14 +121,14 @@ int main(int argc, char **argv)
         check(mps2p_solver_particle_count(solver, &n), "count");
         for (int s = 0; s < 3; s++)
             check(mps2p_solver_step(solver), "warm-up step");
-        double start = now(), dt_sum = 0.0;
+        double start = now(), cpu_start = cpu_now(), dt_sum = 0.0;
         for (int s = 0; s < steps; s++) {
             double dt;
             check(mps2p_solver_step(solver), "step");
             check(mps2p_solver_get_last_dt(solver, &dt), "dt");
             dt_sum += dt;
         }
-        double wall = (now() - start) / steps, dt = dt_sum / steps, bytes, active = 1.0;
+        double wall = (now() - start) / steps, cpu = (cpu_now() - cpu_start) / steps, dt = dt_sum / steps, bytes, active = 1.0;
         if (two_phase) {
             check(mps2p_solver_get_stat(solver, "two_phase_active", &active), "two_phase_active");
             if (active != 1.0) {
@@ -132,15 +139,17 @@ int main(int argc, char **argv)
         check(mps2p_solver_get_stat(solver, "memory_bytes", &bytes), "memory");
         particles[k] = (double)n;
         per_step[k] = wall;
+        cpu_per_step[k] = cpu;
         memory[k] = bytes / (double)n;
-        printf("| %g | %zu | %.2f | %.3g | %.2e | %.0f | %.0f |\n", levels[k], n, 1e3 * wall,
-               (double)n / wall, dt, wall / dt, memory[k]);
+        printf("| %g | %zu | %.2f | %.2f | %.3g | %.2e | %.0f | %.0f |\n", levels[k], n,
+               1e3 * wall, 1e3 * cpu, (double)n / wall, dt, wall / dt, memory[k]);
         fflush(stdout);
         mps2p_solver_destroy(solver);
     }
     if (count >= 2) {
-        printf("\nTime per step grows as particles^%.2f; memory per particle as "
-               "particles^%.2f (0 = linear memory).\n", slope(particles, per_step, count),
+        printf("\nTime per step grows as particles^%.2f (CPU time: particles^%.2f); memory per "
+               "particle as particles^%.2f (0 = linear memory).\n",
+               slope(particles, per_step, count), slope(particles, cpu_per_step, count),
                slope(particles, memory, count));
     }
     return 0;
