@@ -28,8 +28,10 @@ T (both of their series, every point with T <= the run's end). Error: mean and m
     python3 benchmarks/pysph_compare.py [--reps 3] [--tf 0.5] [--out out/pysph_compare]
         [--pysph-python /path/to/python-with-pysph] [--library build-release/lib/libmps2p.so.0]
 
-Prints a Markdown table and writes runs.csv (one row per run) and summary.csv (the
-medians) into --out. A benchmark, not a test: without PySPH it says so and exits 0.
+Prints a Markdown table and writes runs.csv (one row per run), summary.csv (the
+medians) and fronts.csv (Z at Martin & Moyce's T) into --out. With --variants, libmps2p
+alone: the scene with each of VARIANTS' settings, one run each without pictures
+(variants.csv): what the shipped settings were chosen from. A benchmark, not a test: without PySPH it says so and exits 0.
 """
 import argparse
 import csv
@@ -147,14 +149,28 @@ def run_pysph(python, tf, out_dir, env):
             "series": rows[:, :2].tolist()}
 
 
-def run_mps2p(library, scene, tf, out_dir, env):
+class RunEnded(Exception):
+    """libmps2p's run stopped before the end (a detected divergence)."""
+
+    def __init__(self, steps, reason):
+        super().__init__(reason)
+        self.steps, self.reason = steps, reason
+
+
+def run_mps2p(library, scene, tf, out_dir, env, pictures=True):
     shutil.rmtree(out_dir, ignore_errors=True)
     env = dict(env, MPS2P_LIBRARY=library,
                PYTHONPATH=os.pathsep.join(filter(None, [os.path.join(ROOT, "bindings", "python"),
                                                         env.get("PYTHONPATH")])))
     command = [sys.executable, "-m", "mps2p", "run", scene, "--out", out_dir, "--until", repr(tf),
-               "--quiet"]
+               "--quiet"] + ([] if pictures else ["--no-pictures"])
     proc, wall, cpu = timed(command, env)
+    summary_path = os.path.join(out_dir, "summary.json")
+    if proc.returncode != 0 and os.path.exists(summary_path):
+        with open(summary_path) as f:
+            summary = json.load(f)
+        raise RunEnded(summary["steps"], "%s at t = %.4g s: %s" % (
+            summary["status"], summary["time"], summary["reason"]))
     if proc.returncode != 0:
         sys.exit("pysph_compare: libmps2p failed (%s):\n%s" % (" ".join(command),
                                                              proc.stdout[-3000:] + proc.stderr[-3000:]))
@@ -173,6 +189,70 @@ def run_mps2p(library, scene, tf, out_dir, env):
             "series": np.column_stack([series["time"], series["front"]]).tolist()}
 
 
+# --variants: libmps2p alone, the shipped scene with settings changed (name: parameters
+# and options, by the C library's names), one run each
+VARIANTS = [
+    ("defaults, CG", {"collision_distance": 0.5}),
+    ("defaults, CHOLMOD", {"collision_distance": 0.5, "pressure_solver": "cholmod"}),
+    ("collision_distance 0.995, CG (shipped)", {}),
+    ("collision_distance 0.995, CHOLMOD", {"pressure_solver": "cholmod"}),
+    ("+ ppe_source ecs", {"ppe_source": "ecs"}),
+    ("+ ppe_source ecs, pressure_gradient corrected (still-water scheme)",
+     {"ppe_source": "ecs", "pressure_gradient": "corrected"}),
+    ("pressure_gradient corrected alone", {"collision_distance": 0.5,
+                                           "pressure_gradient": "corrected"}),
+    ("collision_distance 0.995, cfl 0.4", {"cfl": 0.4}),
+    ("collision_distance 0.995, re_laplacian 2.1", {"re_laplacian": 2.1}),
+    ("collision_distance 0.995, cfl 0.4, re_laplacian 2.1", {"cfl": 0.4, "re_laplacian": 2.1}),
+]
+
+
+def scene_with(text, settings):
+    """The scene file's text with [parameters] (numbers) and [options] (strings) set."""
+    lines = text.split("\n")
+    for key, value in settings.items():
+        table = "[options]" if isinstance(value, str) else "[parameters]"
+        entry = "%s = %s" % (key, '"%s"' % value if isinstance(value, str) else repr(value))
+        lines = [line for line in lines if not re.match(r"\s*%s\s*=" % re.escape(key), line)]
+        if table not in lines:
+            lines[lines.index("[options]"):lines.index("[options]")] = [table, ""]
+        lines.insert(lines.index(table) + 1, entry)
+    return "\n".join(lines)
+
+
+def run_variants(args, env):
+    with open(args.scene) as f:
+        text = f.read()
+    print("| settings | steps | front error mean / max | solver loop s | process CPU s |")
+    print("|---|---|---|---|---|")
+    rows = []
+    for label, settings in VARIANTS:
+        folder = os.path.join(args.out, "variant_%d" % len(rows))
+        os.makedirs(folder, exist_ok=True)
+        scene = os.path.join(folder, "scene.toml")
+        with open(scene, "w") as f:
+            f.write(scene_with(text, settings))
+        try:
+            r = run_mps2p(args.library, scene, args.tf, os.path.join(folder, "run"), env,
+                          pictures=False)
+        except RunEnded as e:
+            print("| %s | (%s) | %s | | |" % (label, e.steps, e.reason), flush=True)
+            rows.append({"settings": label, "status": e.reason})
+            continue
+        print("| %s | %d | %.1f %% / %.1f %% | %.2f | %.2f |" % (
+            label, r["steps"], 100 * r["front_mean_error"], 100 * r["front_max_error"],
+            r["solver_seconds"], r["cpu_seconds"]), flush=True)
+        rows.append(dict(settings=label, status="ok", **{k: r[k] for k in (
+            "steps", "front_mean_error", "front_max_error", "solver_seconds", "cpu_seconds")}))
+    with open(os.path.join(args.out, "variants.csv"), "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=["settings", "status", "steps", "front_mean_error",
+                                               "front_max_error", "solver_seconds",
+                                               "cpu_seconds"])
+        writer.writeheader()
+        writer.writerows(rows)
+    return 0
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--reps", type=int, default=3, help="timed repetitions of each code")
@@ -182,10 +262,17 @@ def main():
                         help="a Python interpreter with PySPH installed (default: $PYSPH_PYTHON "
                              "or this one)")
     parser.add_argument("--scene", default=SCENE, help="libmps2p's scene file (default: %(default)s)")
+    parser.add_argument("--variants", action="store_true",
+                        help="libmps2p alone: the scene with the settings of VARIANTS, one run "
+                             "each, no pictures (variants.csv)")
     parser.add_argument("--library", default=os.environ.get(
         "MPS2P_LIBRARY", os.path.join(ROOT, "build-release", "lib", "libmps2p.so.0")))
     args = parser.parse_args()
 
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    if args.variants:
+        os.makedirs(args.out, exist_ok=True)
+        return run_variants(args, env)
     version = pysph_version(args.pysph_python)
     if version is None:
         print("pysph_compare: skipped: PySPH is not importable from %s (pip install pysph, or "
@@ -196,7 +283,6 @@ def main():
               "--buildtype=release && ninja -C build-release, or --library)" % args.library)
         return 0
     os.makedirs(args.out, exist_ok=True)
-    env = dict(os.environ, OMP_NUM_THREADS="1")
     codes = {"PySPH": lambda d: run_pysph(args.pysph_python, args.tf, d, env),
              "libmps2p": lambda d: run_mps2p(args.library, args.scene, args.tf, d, env)}
 
