@@ -358,7 +358,7 @@ def main():
             100 * m["front_mean_error"], 100 * m["front_max_error"]))
     print("| libmps2p / PySPH, ratio of medians | | | %.3f | %s | | |" % (
         lib["steps"] / ref["steps"], " | ".join("%.3f" % ratios[key] for key in KEYS)))
-    print("| libmps2p / PySPH, median of the pairs' ratios | | | | %s | | |" % (
+    print("| libmps2p / PySPH, median of each repetition's ratio | | | | %s | | |" % (
         " | ".join("%.3f" % pairs[key] for key in KEYS)))
     print("\nSeconds: median (min-max) of the repetitions. Process: the command, start to exit; "
           "solver loop: each code's own timer around its time loop (PySPH's \"Run took\", "
