@@ -1,12 +1,24 @@
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
-/* Throughput at growing particle counts: the water-only dam break of
- * PySPH's dam_break_2d geometry (water column 1 m wide, 2 m high, in a 4 m
- * tank), at spacings from 0.04 m down. For each: particles, wall time per
- * step (after a few warm-up steps), particle-steps per second, time per
- * simulated second (wall per step / dt), memory per particle, and the
- * fitted growth exponents. Prints Markdown.
+/* Throughput at growing particle counts, two cases:
  *
- *   throughput [steps [solver [l0 ...]]]     solver: cholmod (default) or cg */
+ *   water      the water-only dam break of PySPH's dam_break_2d geometry (water
+ *              column 1 m wide, 2 m high, in a 4 m tank), spacings 0.04 m down
+ *              to 0.0045 m (about 107,000 particles);
+ *   two_phase  the paper's dam break with air (examples/scenes/
+ *              ikari2003_dam_break_air.toml: water 0.15 x 0.3 m at the left
+ *              wall of a 0.6 m tank, air up to 0.7 m, tank 0.8 m high, open
+ *              top; two_step_improved with the drift reaction, fixed dt 2e-4 s),
+ *              spacings 0.02 m down to 0.0025 m. The steps timed are the first
+ *              ones (t < 0.01 s), well before the prototype's divergence
+ *              (after 0.2 s, docs/two-phase.md).
+ *
+ * For each: particles, wall time and CPU time per step (after 3 warm-up
+ * steps), particle-steps per second (wall), time per simulated second (wall
+ * per step / dt), memory per particle, and the fitted growth exponents (of
+ * wall and CPU time). Prints Markdown.
+ *
+ *   throughput [steps [solver [case] [l0 ...]]]
+ *       solver: cholmod (default) or cg; case: water (default) or two_phase */
 #include <mps2p.h>
 
 #include <math.h>
@@ -23,12 +35,18 @@ static void check(int status, const char *what)
     }
 }
 
-static double now(void)
+static double seconds(clockid_t clock)
 {
     struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
+    clock_gettime(clock, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
+
+static double now(void) { return seconds(CLOCK_MONOTONIC); }
+
+/* this process's CPU time: on a shared machine, wall time includes waiting for
+ * a core; CPU time (one thread) mostly does not */
+static double cpu_now(void) { return seconds(CLOCK_PROCESS_CPUTIME_ID); }
 
 /* least-squares slope of log y against log x */
 static double slope(const double *x, const double *y, int n)
@@ -48,26 +66,54 @@ int main(int argc, char **argv)
 {
     int steps = argc > 1 ? atoi(argv[1]) : 20;
     const char *solver_kind = argc > 2 ? argv[2] : "cholmod";
-    double default_levels[] = {0.04, 0.02, 0.01, 0.0066, 0.005};
-    int count = argc > 3 ? argc - 3 : 5;
+    int first = 3; /* first l0 argument */
+    int two_phase = 0;
+    if (argc > 3 && (strcmp(argv[3], "water") == 0 || strcmp(argv[3], "two_phase") == 0)) {
+        two_phase = strcmp(argv[3], "two_phase") == 0;
+        first = 4;
+    }
+    const double water_levels[] = {0.04, 0.02, 0.01, 0.0066, 0.005, 0.0045};
+    const double two_phase_levels[] = {0.02, 0.01, 0.005, 0.0025};
+    const double *default_levels = two_phase ? two_phase_levels : water_levels;
+    int count = argc > first ? argc - first : (two_phase ? 4 : 6);
+    if (count > 16)
+        count = 16;
     double levels[16];
-    for (int k = 0; k < count && k < 16; k++)
-        levels[k] = argc > 3 ? atof(argv[3 + k]) : default_levels[k];
+    for (int k = 0; k < count; k++)
+        levels[k] = argc > first ? atof(argv[first + k]) : default_levels[k];
 
-    double particles[16], per_step[16], memory[16];
-    printf("Water-only dam break (1 m x 2 m column, 4 m tank), pressure solver %s, "
-           "%d steps after 3 warm-up steps:\n\n", solver_kind, steps);
-    printf("| l0 (m) | particles | ms per step | particle-steps/s | dt (s) | "
+    double particles[16], per_step[16], cpu_per_step[16], memory[16];
+    if (two_phase)
+        printf("Two-phase dam break (water 0.15 m x 0.3 m, air to 0.7 m, 0.6 m tank; "
+               "two_step_improved, drift), pressure solver %s, %d steps after 3 warm-up "
+               "steps:\n\n", solver_kind, steps);
+    else
+        printf("Water-only dam break (1 m x 2 m column, 4 m tank), pressure solver %s, "
+               "%d steps after 3 warm-up steps:\n\n", solver_kind, steps);
+    printf("| l0 (m) | particles | ms per step | CPU ms per step | particle-steps/s | dt (s) | "
            "wall s per simulated s | memory bytes per particle |\n");
-    printf("|---|---|---|---|---|---|---|\n");
+    printf("|---|---|---|---|---|---|---|---|\n");
     for (int k = 0; k < count; k++) {
         mps2p_scene *scene;
         int water;
         check(mps2p_scene_create(levels[k], &scene), "scene");
         check(mps2p_scene_set_option(scene, "pressure_solver", solver_kind), "solver kind");
         check(mps2p_scene_add_fluid(scene, "water", 1000.0, 1e-6, &water), "fluid");
-        check(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.0, 1.0, 2.0), "column");
-        check(mps2p_scene_add_tank(scene, 0.0, 0.0, 4.0, 2.5, 1), "tank");
+        if (two_phase) {
+            int air;
+            check(mps2p_scene_set_param(scene, "dt", 2.0e-4), "dt");
+            check(mps2p_scene_set_option(scene, "two_phase_model", "two_step_improved"),
+                  "two_phase_model");
+            check(mps2p_scene_set_option(scene, "interface_reaction", "drift"), "reaction");
+            check(mps2p_scene_add_fluid(scene, "air", 1.2, 1.5e-5, &air), "air");
+            check(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.0, 0.15, 0.3), "column");
+            check(mps2p_scene_add_fluid_box(scene, air, 0.15, 0.0, 0.6, 0.7), "air right");
+            check(mps2p_scene_add_fluid_box(scene, air, 0.0, 0.3, 0.15, 0.7), "air above");
+            check(mps2p_scene_add_tank(scene, 0.0, 0.0, 0.6, 0.8, 1), "tank");
+        } else {
+            check(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.0, 1.0, 2.0), "column");
+            check(mps2p_scene_add_tank(scene, 0.0, 0.0, 4.0, 2.5, 1), "tank");
+        }
         mps2p_solver *solver;
         check(mps2p_solver_create(scene, &solver), "solver");
         mps2p_scene_destroy(scene);
@@ -75,26 +121,35 @@ int main(int argc, char **argv)
         check(mps2p_solver_particle_count(solver, &n), "count");
         for (int s = 0; s < 3; s++)
             check(mps2p_solver_step(solver), "warm-up step");
-        double start = now(), dt_sum = 0.0;
+        double start = now(), cpu_start = cpu_now(), dt_sum = 0.0;
         for (int s = 0; s < steps; s++) {
             double dt;
             check(mps2p_solver_step(solver), "step");
             check(mps2p_solver_get_last_dt(solver, &dt), "dt");
             dt_sum += dt;
         }
-        double wall = (now() - start) / steps, dt = dt_sum / steps, bytes;
+        double wall = (now() - start) / steps, cpu = (cpu_now() - cpu_start) / steps, dt = dt_sum / steps, bytes, active = 1.0;
+        if (two_phase) {
+            check(mps2p_solver_get_stat(solver, "two_phase_active", &active), "two_phase_active");
+            if (active != 1.0) {
+                fprintf(stderr, "l0 = %g: the two-phase model is not active\n", levels[k]);
+                exit(1);
+            }
+        }
         check(mps2p_solver_get_stat(solver, "memory_bytes", &bytes), "memory");
         particles[k] = (double)n;
         per_step[k] = wall;
+        cpu_per_step[k] = cpu;
         memory[k] = bytes / (double)n;
-        printf("| %g | %zu | %.2f | %.3g | %.2e | %.0f | %.0f |\n", levels[k], n, 1e3 * wall,
-               (double)n / wall, dt, wall / dt, memory[k]);
+        printf("| %g | %zu | %.2f | %.2f | %.3g | %.2e | %.0f | %.0f |\n", levels[k], n,
+               1e3 * wall, 1e3 * cpu, (double)n / wall, dt, wall / dt, memory[k]);
         fflush(stdout);
         mps2p_solver_destroy(solver);
     }
     if (count >= 2) {
-        printf("\nTime per step grows as particles^%.2f; memory per particle as "
-               "particles^%.2f (0 = linear memory).\n", slope(particles, per_step, count),
+        printf("\nTime per step grows as particles^%.2f (CPU time: particles^%.2f); memory per "
+               "particle as particles^%.2f (0 = linear memory).\n",
+               slope(particles, per_step, count), slope(particles, cpu_per_step, count),
                slope(particles, memory, count));
     }
     return 0;
