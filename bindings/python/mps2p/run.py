@@ -113,12 +113,12 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False):
     probes = Probes(scene_file)
     n = solver.particle_count
     snapshot_times = set(_schedule(end, scene_file.snapshot_every))
-    if scene_file.picture_times:
+    wanted = [t for t in scene_file.picture_times or [] if t <= end]
+    if wanted:
         scheduled = snapshot_times | {0.0}
-        picture_times = sorted(_on_schedule(t, scheduled, end)
-                               for t in scene_file.picture_times if t <= end)
+        picture_times = sorted(_on_schedule(t, scheduled, end) for t in wanted)
         snapshot_times |= set(t for t in picture_times if t > 0)
-    else:
+    else:  # none asked for, or none before a shortened run's end
         candidates = sorted(snapshot_times | {0.0})
         picks = np.unique(np.linspace(0, len(candidates) - 1,
                                       PICTURE_SNAPSHOTS).round().astype(int))
