@@ -9,31 +9,46 @@
 
 #include <math.h>
 
-static int inside(const mps2p_solver *s, size_t i, const double up[2])
+int more_liquid_than_light_neighbours(const mps2p_solver *s, size_t i)
 {
     const two_phase *tp = s->phases;
-    const double l0 = s->l0, re = s->params.re_density * l0, re2 = re * re;
-    const neighbour_rows rows = neighbour_rows_within(&s->neighbours, 3.1 * l0);
+    const double re = s->params.re_density * s->l0, re2 = re * re;
+    const neighbour_rows rows = neighbour_rows_within(&s->neighbours, re);
     const double *r = s->state.position;
-    int heavy_near = 0, light_near = 0, above = 0, below = 0;
+    int heavy_near = 0, light_near = 0;
     for (size_t k = rows.start[i]; k < rows.start[i + 1]; k++) {
         size_t j = rows.index[k];
-        if (s->kind[j] == MPS2P_KIND_DUMMY)
+        if (s->kind[j] != MPS2P_KIND_FLUID)
             continue;
         double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
-        int heavy_fluid = s->kind[j] == MPS2P_KIND_FLUID && !tp->light[j];
-        if (s->kind[j] == MPS2P_KIND_FLUID && dx * dx + dy * dy < re2) {
-            heavy_near += heavy_fluid;
-            light_near += !heavy_fluid;
-        }
-        double height = dx * up[0] + dy * up[1];
-        double across = fabs(dx * up[1] - dy * up[0]);
-        if (across < 0.75 * l0 && fabs(height) < 3.0 * l0) {
-            above |= heavy_fluid && height > 0.0;
-            below |= (heavy_fluid || s->kind[j] == MPS2P_KIND_WALL) && height < 0.0;
+        if (dx * dx + dy * dy < re2) {
+            heavy_near += !tp->light[j];
+            light_near += tp->light[j];
         }
     }
-    return heavy_near > light_near || (above && below);
+    return heavy_near > light_near;
+}
+
+/* Heavy fluid above (against gravity) and heavy fluid or wall below. */
+static int submerged(const mps2p_solver *s, size_t i, const double up[2])
+{
+    const two_phase *tp = s->phases;
+    const double l0 = s->l0;
+    const neighbour_rows rows = neighbour_rows_within(&s->neighbours, 3.1 * l0);
+    const double *r = s->state.position;
+    int above = 0, below = 0;
+    for (size_t k = rows.start[i]; k < rows.start[i + 1]; k++) {
+        size_t j = rows.index[k];
+        double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
+        double height = dx * up[0] + dy * up[1];
+        double across = fabs(dx * up[1] - dy * up[0]);
+        if (across >= 0.75 * l0 || fabs(height) >= 3.0 * l0)
+            continue;
+        int heavy_fluid = s->kind[j] == MPS2P_KIND_FLUID && !tp->light[j];
+        above |= heavy_fluid && height > 0.0;
+        below |= (heavy_fluid || s->kind[j] == MPS2P_KIND_WALL) && height < 0.0;
+    }
+    return above && below;
 }
 
 size_t gas_in_liquid_count(const mps2p_solver *s)
@@ -45,6 +60,7 @@ size_t gas_in_liquid_count(const mps2p_solver *s)
     const double up[2] = {g > 0.0 ? -gx / g : 0.0, g > 0.0 ? -gy / g : 1.0};
     size_t count = 0;
     for (size_t i = 0; i < s->count; i++)
-        count += tp->light[i] && inside(s, i, up);
+        count += tp->light[i] &&
+                 (more_liquid_than_light_neighbours(s, i) || submerged(s, i, up));
     return count;
 }

@@ -90,27 +90,6 @@ void interface_scan(mps2p_solver *s)
     tp->enclosed_count = enclosed;
 }
 
-/* Inside the liquid: more liquid than light fluid neighbours within re. */
-static int inside_liquid(const mps2p_solver *s, size_t i)
-{
-    const two_phase *tp = s->phases;
-    const double re2 = s->params.re_density * s->l0 * s->params.re_density * s->l0;
-    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, s->params.re_density * s->l0);
-    const double *r = s->state.position;
-    int heavy_near = 0, light_near = 0;
-    for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
-        size_t j = nl.index[k];
-        if (s->kind[j] != MPS2P_KIND_FLUID)
-            continue;
-        double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
-        if (dx * dx + dy * dy < re2) {
-            heavy_near += !tp->light[j];
-            light_near += tp->light[j];
-        }
-    }
-    return heavy_near > light_near;
-}
-
 void interface_join(mps2p_solver *s)
 {
     two_phase *tp = s->phases;
@@ -124,7 +103,7 @@ void interface_join(mps2p_solver *s)
             continue;
         /* Hold: a particle that joined stays joined while it is inside the
          * liquid, so that it does not flicker between the two solves. */
-        int hold = tp->was_joined[i] && hold_on && inside_liquid(s, i);
+        int hold = tp->was_joined[i] && hold_on && more_liquid_than_light_neighbours(s, i);
         tp->joined[i] =
             (unsigned char)(tp->triggered[i] || hold || (tp->enclosed[i] && enclosed_on));
         joined += tp->joined[i];

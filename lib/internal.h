@@ -333,6 +333,8 @@ int phases_divergence_check(mps2p_solver *s, double dt);
 /* Two-phase statistics by name (0 when off); MPS2P_ERR_UNKNOWN_KEY if not one. */
 int phases_get_stat(const mps2p_solver *s, const char *key, double *value);
 size_t gas_in_liquid_count(const mps2p_solver *s);                  /* gas_in_liquid.c */
+/* A light particle with more heavy-fluid than light-fluid neighbours within re. */
+int more_liquid_than_light_neighbours(const mps2p_solver *s, size_t i);
 
 /* What of s->phases carries from one step into the next, for
  * mps2p_solver_save_state and checkpoints (phases_carry.c says why each
