@@ -65,6 +65,9 @@ int main(int argc, char **argv)
         int water;
         check(mps2p_scene_create(levels[k], &scene), "scene");
         check(mps2p_scene_set_option(scene, "pressure_solver", solver_kind), "solver kind");
+        if (getenv("MPS2P_THREADS")) /* parameter threads (docs/performance.md) */
+            check(mps2p_scene_set_param(scene, "threads", atof(getenv("MPS2P_THREADS"))),
+                  "threads");
         check(mps2p_scene_add_fluid(scene, "water", 1000.0, 1e-6, &water), "fluid");
         check(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.0, 1.0, 2.0), "column");
         check(mps2p_scene_add_tank(scene, 0.0, 0.0, 4.0, 2.5, 1), "tank");

@@ -81,13 +81,14 @@ static int needs_rebuild(const neighbour_list *list, const double *position)
     if (list->builds == 0 || list->stale)
         return 1;
     double limit2 = 0.25 * list->skin * list->skin;
+    int moved = 0; /* an OR: the same for any split among threads */
+    PARALLEL_FOR(list->threads, schedule(static) reduction(| : moved),
     for (size_t i = 0; i < list->count; i++) {
         double dx = position[2 * i] - list->built_at[2 * i];
         double dy = position[2 * i + 1] - list->built_at[2 * i + 1];
-        if (!(dx * dx + dy * dy <= limit2))
-            return 1;
-    }
-    return 0;
+        moved |= !(dx * dx + dy * dy <= limit2);
+    });
+    return moved;
 }
 
 /* Counting sort of particles into cells; particles keep index order inside a
@@ -246,24 +247,37 @@ int neighbours_update(neighbour_list *list, const double *position)
         return MPS2P_OK;
     sort_into_cells(list, position);
     const int with_short = list->short_start != NULL;
+    const size_t n = list->count;
+    /* Each row is counted, then stored, by one thread, into its own slots:
+     * the lists do not depend on the number of threads. */
     list->start[0] = 0;
     if (with_short)
         list->short_start[0] = 0;
-    for (size_t i = 0; i < list->count; i++) {
+    PARALLEL_FOR(list->threads, schedule(static),
+    for (size_t i = 0; i < n; i++) {
         size_t near = 0;
-        list->start[i + 1] = list->start[i] + gather(list, position, i, NULL, NULL, &near);
+        list->start[i + 1] = gather(list, position, i, NULL, NULL, &near);
         if (with_short)
-            list->short_start[i + 1] = list->short_start[i] + near;
+            list->short_start[i + 1] = near;
+    });
+    for (size_t i = 0; i < n; i++) {
+        list->start[i + 1] += list->start[i];
+        if (with_short)
+            list->short_start[i + 1] += list->short_start[i];
     }
-    size_t total = list->start[list->count];
+    size_t total = list->start[n];
     /* the short index: one spare slot, so never NULL */
     if (!reserve(&list->index, &list->capacity, total) ||
         (with_short &&
          !reserve(&list->short_index, &list->short_capacity, list->short_start[list->count] + 1)))
         return fail_growth(list);
-    for (size_t i = 0; total > 0 && i < list->count; i++) /* no pairs: index may be NULL */
-        gather(list, position, i, list->index + list->start[i],
-               with_short ? list->short_index + list->short_start[i] : NULL, NULL);
+    if (total > 0) { /* no pairs: index may be NULL */
+        PARALLEL_FOR(list->threads, schedule(static),
+        for (size_t i = 0; i < n; i++) {
+            gather(list, position, i, list->index + list->start[i],
+                   with_short ? list->short_index + list->short_start[i] : NULL, NULL);
+        });
+    }
     memcpy(list->built_at, position, 2 * list->count * sizeof *position);
     list->builds++;
     list->stale = 0;

@@ -55,6 +55,12 @@ static const param_entry table[] = {
      "Cs of the turbulence effect's eddy viscosity (Cs l0)^2 |S|"},
     {"neighbour_skin", FIELD(neighbour_skin), 0.4, 0.0, 5.0,
      "extra radius of the neighbour list, in l0"},
+    /* 1 by default: a library embedded in a host program starts no threads
+     * unasked, and on a busy machine more threads than free cores are slower
+     * (docs/performance.md) */
+    {"threads", FIELD(threads), 1.0, 0.0, 1024.0,
+     "threads of the particle loops (OpenMP); 0 = OpenMP's default (OMP_NUM_THREADS); "
+     "the same result bits for any count"},
     /* two phases (docs/two-phase.md): read only when effect two_phase is on */
     {"light_fraction", FIELD(light_fraction), 0.1, 1e-9, 1.0,
      "a fluid lighter than this fraction of the heaviest is light (two-phase)"},
@@ -132,7 +138,8 @@ int params_set(params *p, const char *key, double value, char *message, size_t s
                  key, e->min, e->max, value);
         return MPS2P_ERR_INVALID;
     }
-    if (strcmp(key, "cg_max_iterations") == 0 && value != floor(value)) {
+    if ((strcmp(key, "cg_max_iterations") == 0 || strcmp(key, "threads") == 0) &&
+        value != floor(value)) {
         snprintf(message, size, "parameter %s must be a whole number, got %g", key, value);
         return MPS2P_ERR_INVALID;
     }
