@@ -164,6 +164,10 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *                                 beta_count N0 neighbours within re_density
  *   smagorinsky_constant    0.1   Cs of effect.turbulence: nu_t = (Cs l0)^2 |S|
  *   neighbour_skin          0.4   extra radius of the neighbour list, in l0
+ *   threads                 1     threads of the particle loops (OpenMP builds);
+ *                                 0 = OpenMP's default (OMP_NUM_THREADS); per
+ *                                 solver; the results are the same bits for any
+ *                                 count (docs/performance.md)
  * mps2p_param_info() lists them at run time. */
 MPS2P_API int mps2p_scene_set_param(mps2p_scene *scene, const char *key, double value);
 MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
