@@ -185,6 +185,12 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  *                     ppe_relaxation; "mixed": (n* - n^k) + gamma (n^k - n0);
  *                     "ecs": (n* - n^k) + |n^k - n0|/n0 (n^k - n0), an
  *                     error-compensating form (all over n0, times rho/dt^2)
+ *   ppe_pattern       "distance" (default): the PPE matrix holds the pairs
+ *                     within re_laplacian; "neighbour_list": every pair of
+ *                     the neighbour list (zeros beyond re_laplacian), a
+ *                     pattern that stands while the list and the unknowns
+ *                     do, so CHOLMOD reuses its analysis (still water: one
+ *                     analysis instead of one a step; docs/performance.md)
  *   effect.gravity, effect.viscosity, effect.collision
  *                     "auto" (default): on when the scene needs it (non-zero
  *                     gravity; a fluid with viscosity > 0; collision_distance

@@ -72,6 +72,10 @@ enum pressure_solver_kind { PRESSURE_SOLVER_CHOLMOD = 0, PRESSURE_SOLVER_CG = 1 
 enum pressure_gradient_kind { GRADIENT_MINIMUM = 0, GRADIENT_CORRECTED = 1 };
 enum free_surface_kind { FREE_SURFACE_NUMBER_DENSITY = 0, FREE_SURFACE_NEIGHBOUR_COUNT = 1 };
 enum ppe_source_kind { PPE_SOURCE_DENSITY = 0, PPE_SOURCE_MIXED = 1, PPE_SOURCE_ECS = 2 };
+/* The PPE matrix's pattern: the pairs within re_laplacian, or every pair of
+ * the neighbour list (zeros beyond re_laplacian), which stands as long as
+ * the list and the unknowns do, so CHOLMOD's analysis is reused (pressure.c). */
+enum ppe_pattern_kind { PPE_PATTERN_DISTANCE = 0, PPE_PATTERN_NEIGHBOUR_LIST = 1 };
 /* Two-phase model (effects two_phase and interface_reaction, phases.c). */
 enum two_phase_model_kind {
     TWO_PHASE_IMPROVED = 0, /* two_step_improved: the default */
@@ -136,6 +140,7 @@ typedef struct params {
     int pressure_solver;
     int pressure_gradient;
     int ppe_source;
+    int ppe_pattern;
     int free_surface;
     int two_phase_model;
     int interface_reaction;

@@ -113,6 +113,7 @@ void params_set_defaults(params *p)
     p->pressure_solver = PRESSURE_SOLVER_CHOLMOD;
     p->pressure_gradient = GRADIENT_MINIMUM;
     p->ppe_source = PPE_SOURCE_DENSITY;
+    p->ppe_pattern = PPE_PATTERN_DISTANCE;
     p->free_surface = FREE_SURFACE_NUMBER_DENSITY;
     p->two_phase_model = TWO_PHASE_IMPROVED;
     /* Provisional (docs/two-phase.md): the form that ran longest on the
@@ -182,6 +183,7 @@ static const option_entry options[] = {
     {"pressure_solver", offsetof(params, pressure_solver), {"cholmod", "cg", NULL}},
     {"pressure_gradient", offsetof(params, pressure_gradient), {"minimum", "corrected", NULL}},
     {"ppe_source", offsetof(params, ppe_source), {"density", "mixed", "ecs", NULL}},
+    {"ppe_pattern", offsetof(params, ppe_pattern), {"distance", "neighbour_list", NULL}},
     {"free_surface", offsetof(params, free_surface), {"number_density", "neighbour_count", NULL}},
     {"two_phase_model", offsetof(params, two_phase_model),
      {"two_step_improved", "two_step", "single", NULL}},

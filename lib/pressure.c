@@ -119,6 +119,8 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
     if (unknowns >= INT_MAX)
         return fail(s->error, MPS2P_ERR_NOMEM,
                     "pressure matrix with %ld rows is beyond the int index range", unknowns);
+    /* pattern from the neighbour list: every unknown neighbour, zero beyond re */
+    const int whole_list = s->params.ppe_pattern == PPE_PATTERN_NEIGHBOUR_LIST;
     if (grow_matrix(&s->matrix, (int)unknowns, 0) != MPS2P_OK)
         return fail(s->error, MPS2P_ERR_NOMEM,
                     "out of memory for the pressure matrix (%ld rows)", unknowns);
@@ -137,7 +139,7 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
                 continue;
             double dx = position[2 * j] - position[2 * i];
             double dy = position[2 * j + 1] - position[2 * i + 1];
-            row_entries += dx * dx + dy * dy < re * re;
+            row_entries += whole_list || dx * dx + dy * dy < re * re;
         }
         /* a row holds at most the whole list's entries, so an int once the
          * total is checked below; clamped until then */
@@ -174,9 +176,10 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
                 continue;
             double dx = position[2 * j] - position[2 * i];
             double dy = position[2 * j + 1] - position[2 * i + 1];
-            if (dx * dx + dy * dy >= re * re)
+            int in_range = dx * dx + dy * dy < re * re;
+            if (!in_range && !(whole_list && s->unknown_of[j] >= 0))
                 continue;
-            double w = kernel_weight(sqrt(dx * dx + dy * dy), re);
+            double w = in_range ? kernel_weight(sqrt(dx * dx + dy * dy), re) : 0.0;
             diagonal += c * w;
             if (s->unknown_of[j] < 0) {
                 if (sys->dirichlet)
