@@ -127,7 +127,8 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
     sparse_matrix *m = &s->matrix;
 
     /* Count the pattern, a row per thread at a time: the diagonal plus unknown
-     * neighbours in range, into row_start[row + 1]; then its running sum. */
+     * neighbours in range (or all of them, whole_list), into row_start[row +
+     * 1]; then its running sum. */
     PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         if (s->unknown_of[i] < 0)
