@@ -52,6 +52,8 @@ static mps2p_scene *paper_scene(double l0)
     check(mps2p_scene_create(l0, &scene), "scene");
     check(mps2p_scene_add_fluid(scene, "water", 1000.0, 1e-6, &water), "fluid");
     check(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.0, 0.15, 0.3), "column");
+    if (getenv("MPS2P_THREADS")) /* parameter threads (docs/performance.md) */
+        check(mps2p_scene_set_param(scene, "threads", atof(getenv("MPS2P_THREADS"))), "threads");
     if (with_air) {
         check(mps2p_scene_add_fluid(scene, "air", 1.2, 1.5e-5, &air), "air");
         check(mps2p_scene_add_fluid_box(scene, air, 0.15, 0.0, 0.6, 0.7), "air right");

@@ -98,6 +98,9 @@ int main(int argc, char **argv)
         int water;
         check(mps2p_scene_create(levels[k], &scene), "scene");
         check(mps2p_scene_set_option(scene, "pressure_solver", solver_kind), "solver kind");
+        if (getenv("MPS2P_THREADS")) /* parameter threads (docs/performance.md) */
+            check(mps2p_scene_set_param(scene, "threads", atof(getenv("MPS2P_THREADS"))),
+                  "threads");
         check(mps2p_scene_add_fluid(scene, "water", 1000.0, 1e-6, &water), "fluid");
         if (two_phase) {
             int air;

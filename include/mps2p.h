@@ -167,6 +167,10 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *   excitation_acceleration 0     A of a shaken tank's horizontal acceleration
  *                                 A sin(2 pi t / T) (m/s^2); effect.excitation
  *   excitation_period       1.0   T (s)
+ *   threads                 1     threads of the particle loops (OpenMP builds);
+ *                                 0 = OpenMP's default (OMP_NUM_THREADS); per
+ *                                 solver; the results are the same bits for any
+ *                                 count (docs/performance.md)
  * mps2p_param_info() lists them at run time. */
 MPS2P_API int mps2p_scene_set_param(mps2p_scene *scene, const char *key, double value);
 MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
@@ -184,6 +188,12 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  *                     ppe_relaxation; "mixed": (n* - n^k) + gamma (n^k - n0);
  *                     "ecs": (n* - n^k) + |n^k - n0|/n0 (n^k - n0), an
  *                     error-compensating form (all over n0, times rho/dt^2)
+ *   ppe_pattern       "distance" (default): the PPE matrix holds the pairs
+ *                     within re_laplacian; "neighbour_list": every pair of
+ *                     the neighbour list (zeros beyond re_laplacian), a
+ *                     pattern that stands while the list and the unknowns
+ *                     do, so CHOLMOD reuses its analysis (still water: one
+ *                     analysis instead of one a step; docs/performance.md)
  *   effect.gravity, effect.viscosity, effect.collision
  *                     "auto" (default): on when the scene needs it (non-zero
  *                     gravity; a fluid with viscosity > 0; collision_distance

@@ -18,7 +18,9 @@ void collision_apply(mps2p_solver *s, double dt)
     memcpy(updated, velocity, 2 * s->count * sizeof *updated);
 
     /* Every impulse is computed from the velocities before this pass, so the
-     * result does not depend on the order of the particles. */
+     * result does not depend on the order of the particles (nor on how
+     * threads split them). */
+    PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         if (s->kind[i] != MPS2P_KIND_FLUID)
             continue;
@@ -51,7 +53,8 @@ void collision_apply(mps2p_solver *s, double dt)
             updated[2 * i] -= impulse * nx;
             updated[2 * i + 1] -= impulse * ny;
         }
-    }
+    });
+    PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         if (s->kind[i] != MPS2P_KIND_FLUID)
             continue;
@@ -59,5 +62,5 @@ void collision_apply(mps2p_solver *s, double dt)
         position[2 * i + 1] += dt * (updated[2 * i + 1] - velocity[2 * i + 1]);
         velocity[2 * i] = updated[2 * i];
         velocity[2 * i + 1] = updated[2 * i + 1];
-    }
+    });
 }

@@ -31,6 +31,7 @@ void pressure_correct(mps2p_solver *s, double dt)
     double *position = s->state.position, *velocity = s->state.velocity;
     const double *pressure = s->state.pressure;
     double *change = s->scratch;
+    PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         double *du = &change[2 * i];
         du[0] = du[1] = 0.0;
@@ -40,7 +41,8 @@ void pressure_correct(mps2p_solver *s, double dt)
         pressure_gradient_at(s, i, pressure, gradient);
         du[0] = -dt / s->density[i] * gradient[0];
         du[1] = -dt / s->density[i] * gradient[1];
-    }
+    });
+    PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         if (s->kind[i] != MPS2P_KIND_FLUID)
             continue;
@@ -48,5 +50,5 @@ void pressure_correct(mps2p_solver *s, double dt)
         velocity[2 * i + 1] += change[2 * i + 1];
         position[2 * i] += dt * change[2 * i];
         position[2 * i + 1] += dt * change[2 * i + 1];
-    }
+    });
 }

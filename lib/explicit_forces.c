@@ -11,6 +11,9 @@ void viscosity_apply(mps2p_solver *s, double dt)
 {
     double *velocity = s->state.velocity;
     double *acceleration = s->scratch;
+    /* Each particle writes only its own entries: any split among threads
+     * gives the same bits (so do the other particle loops). */
+    PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         double *a = &acceleration[2 * i];
         a[0] = a[1] = 0.0;
@@ -23,13 +26,14 @@ void viscosity_apply(mps2p_solver *s, double dt)
         laplacian_masked_at(s, i, velocity, 2, mask, a);
         a[0] *= s->viscosity[i];
         a[1] *= s->viscosity[i];
-    }
+    });
+    PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         if (s->kind[i] != MPS2P_KIND_FLUID)
             continue;
         velocity[2 * i] += dt * acceleration[2 * i];
         velocity[2 * i + 1] += dt * acceleration[2 * i + 1];
-    }
+    });
 }
 
 void gravity_apply(mps2p_solver *s, double dt)

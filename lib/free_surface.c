@@ -26,6 +26,7 @@ void neighbour_count_compute(mps2p_solver *s)
     const double re = s->params.re_density * s->l0, re2 = re * re;
     const neighbour_list *nl = &s->neighbours;
     const double *position = s->state.position;
+    PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         unsigned count = 0;
         for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
@@ -35,7 +36,7 @@ void neighbour_count_compute(mps2p_solver *s)
             count += dx * dx + dy * dy < re2;
         }
         s->neighbour_count[i] = count;
-    }
+    });
 }
 
 void free_surface_detect(mps2p_solver *s)
@@ -43,13 +44,14 @@ void free_surface_detect(mps2p_solver *s)
     const double threshold = s->params.beta * s->n0_density;
     const int by_count = s->params.free_surface == FREE_SURFACE_NEIGHBOUR_COUNT;
     const double fewest = s->params.beta_count * lattice_neighbours(s->params.re_density);
-    size_t surface = 0;
+    size_t surface = 0; /* a count: the same for any split among threads */
+    PARALLEL_FOR(s->params.threads, schedule(static) reduction(+ : surface),
     for (size_t i = 0; i < s->count; i++) {
         int is_surface = s->kind[i] != MPS2P_KIND_DUMMY &&
                          (s->number_density[i] < threshold ||
                           (by_count && (double)s->neighbour_count[i] < fewest));
         s->on_surface[i] = (unsigned char)is_surface;
         surface += (size_t)is_surface;
-    }
+    });
     s->surface_particles = surface;
 }

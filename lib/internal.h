@@ -7,6 +7,54 @@
 
 #include <stdarg.h>
 #include <stddef.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+/* Threads of a parallel loop for a `threads` setting (parameter threads:
+ * 0 = OpenMP's default). Given to each loop's num_threads clause, never set
+ * process-wide, so two solvers can run with different counts side by side. */
+static inline int team_size(double threads)
+{
+#ifdef _OPENMP
+    return threads >= 1.0 ? (int)threads : omp_get_max_threads();
+#else
+    (void)threads;
+    return 1;
+#endif
+}
+
+/* PARALLEL_FOR(threads, clauses, for-statement): the loop over team_size
+ * threads with OpenMP's "parallel for" and the given clauses (schedule,
+ * reduction, if; no commas). With one thread, or without OpenMP, it is the
+ * plain loop: libgomp is never entered, since it exits the process when its
+ * own allocations fail (libmps2p returns MPS2P_ERR_NOMEM instead). Each
+ * iteration writes only its own outputs, or the clause is an order-free
+ * reduction (|, + of integers), so the results do not depend on the team. */
+#ifdef _OPENMP
+#define OMP_PRAGMA_(...) _Pragma(#__VA_ARGS__)
+#define PARALLEL_FOR(threads, clauses, ...)                                      \
+    do {                                                                         \
+        const int team_ = team_size(threads);                                    \
+        if (team_ > 1) {                                                         \
+            OMP_PRAGMA_(omp parallel for num_threads(team_) clauses)             \
+            __VA_ARGS__                                                          \
+        } else {                                                                 \
+            __VA_ARGS__                                                          \
+        }                                                                        \
+    } while (0)
+#else
+#define PARALLEL_FOR(threads, clauses, ...)                                      \
+    do {                                                                         \
+        (void)(threads);                                                         \
+        __VA_ARGS__                                                              \
+    } while (0)
+#endif
+
+/* Reductions (sums, maxima) are taken over fixed blocks of this many
+ * particles or unknowns, each summed in order, and the block results
+ * combined in block order: the same bits for any number of threads. */
+#define REDUCTION_BLOCK 1024
 
 #define ERROR_MESSAGE_SIZE 512
 #define FLUID_NAME_SIZE 64
@@ -24,6 +72,10 @@ enum pressure_solver_kind { PRESSURE_SOLVER_CHOLMOD = 0, PRESSURE_SOLVER_CG = 1 
 enum pressure_gradient_kind { GRADIENT_MINIMUM = 0, GRADIENT_CORRECTED = 1 };
 enum free_surface_kind { FREE_SURFACE_NUMBER_DENSITY = 0, FREE_SURFACE_NEIGHBOUR_COUNT = 1 };
 enum ppe_source_kind { PPE_SOURCE_DENSITY = 0, PPE_SOURCE_MIXED = 1, PPE_SOURCE_ECS = 2 };
+/* The PPE matrix's pattern: the pairs within re_laplacian, or every pair of
+ * the neighbour list (zeros beyond re_laplacian), which stands as long as
+ * the list and the unknowns do, so CHOLMOD's analysis is reused (pressure.c). */
+enum ppe_pattern_kind { PPE_PATTERN_DISTANCE = 0, PPE_PATTERN_NEIGHBOUR_LIST = 1 };
 /* Two-phase model (effects two_phase and interface_reaction, phases.c). */
 enum two_phase_model_kind {
     TWO_PHASE_IMPROVED = 0, /* two_step_improved: the default */
@@ -89,9 +141,11 @@ typedef struct params {
     double gas_liquid_volume;  /* gas sees liquid particles weighted (0, 1, 2: gas_pressure.c) */
     double gas_cg_tolerance;   /* CG tolerance of the gas solve; 0 = cg_tolerance */
     double join_hold;          /* 1 = a joined particle stays joined while inside the liquid */
+    double threads;            /* threads of the particle loops; 0 = OpenMP's default */
     int pressure_solver;
     int pressure_gradient;
     int ppe_source;
+    int ppe_pattern;
     int free_surface;
     int two_phase_model;
     int interface_reaction;
@@ -180,6 +234,7 @@ typedef struct neighbour_list {
     size_t *particle_cell;
     unsigned long builds;
     int stale;           /* a rebuild failed half-way: rebuild at the next update */
+    double threads;      /* parameter threads (team_size) */
 } neighbour_list;
 
 /* short_radius: the radius the short list must serve (re_density l0); 0, or
@@ -230,7 +285,8 @@ typedef struct sparse_matrix {
 
 typedef struct linear_solver linear_solver;
 
-int linear_solver_create(int kind, linear_solver **solver);
+/* threads: parameter threads, for CG's loops (team_size). */
+int linear_solver_create(int kind, double threads, linear_solver **solver);
 void linear_solver_destroy(linear_solver *solver);
 /* Solves A x = b; x holds the initial guess on entry (used by CG). */
 /* CHOLMOD symbolic analyses so far (a matrix of the last one's pattern reuses it). */

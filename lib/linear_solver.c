@@ -24,8 +24,10 @@ struct linear_solver {
     int pattern_rows;
     size_t pattern_capacity; /* of pattern_column */
     uint64_t analyses;       /* symbolic analyses so far */
-    double *work; /* 5 vectors for CG; the first also serves the residual */
+    double *work; /* 5 vectors for CG (the first also serves the residual), then
+                     2 partial sums a block (REDUCTION_BLOCK) */
     size_t work_size;
+    double threads; /* parameter threads (team_size) */
 };
 
 /* GSL's default handler aborts the process, and it is process-wide: turn it
@@ -33,13 +35,14 @@ struct linear_solver {
 static pthread_once_t gsl_handler_once = PTHREAD_ONCE_INIT;
 static void gsl_handler_off(void) { gsl_set_error_handler_off(); }
 
-int linear_solver_create(int kind, linear_solver **out)
+int linear_solver_create(int kind, double threads, linear_solver **out)
 {
     pthread_once(&gsl_handler_once, gsl_handler_off);
     linear_solver *ls = calloc(1, sizeof *ls);
     if (!ls)
         return MPS2P_ERR_NOMEM;
     ls->kind = kind;
+    ls->threads = threads;
     if (kind == PRESSURE_SOLVER_CHOLMOD) {
         if (!cholmod_start(&ls->common)) {
             free(ls);
@@ -92,38 +95,93 @@ size_t linear_solver_memory(const linear_solver *ls)
     return bytes;
 }
 
-static void multiply(const sparse_matrix *a, const double *x, double *y)
+/* Vectors shorter than a block stay on the calling thread: a fork costs
+ * more than the loop. */
+#define PARALLEL_FROM REDUCTION_BLOCK
+
+static size_t block_count(size_t n)
 {
+    return (n + REDUCTION_BLOCK - 1) / REDUCTION_BLOCK;
+}
+
+static double *partial_sums(const linear_solver *ls, size_t n)
+{
+    return ls->work + 5 * n;
+}
+
+static void multiply(const linear_solver *ls, const sparse_matrix *a, const double *x,
+                     double *y)
+{
+    PARALLEL_FOR(ls->threads, schedule(static) if (a->rows >= PARALLEL_FROM),
     for (int i = 0; i < a->rows; i++) {
         double sum = 0.0;
         for (int k = a->row_start[i]; k < a->row_start[i + 1]; k++)
             sum += a->value[k] * x[a->column[k]];
         y[i] = sum;
-    }
+    });
 }
 
-static double relative_residual(const sparse_matrix *a, const double *b, const double *x,
-                                double *work)
+/* Adds the block sums partial[2 b + part] in block order. */
+static double combine(const double *partial, size_t blocks, int part)
 {
-    multiply(a, x, work);
-    double r2 = 0.0, b2 = 0.0;
-    for (int i = 0; i < a->rows; i++) {
-        double r = b[i] - work[i];
-        r2 += r * r;
-        b2 += b[i] * b[i];
-    }
+    double sum = 0.0;
+    for (size_t b = 0; b < blocks; b++)
+        sum += partial[2 * b + (size_t)part];
+    return sum;
+}
+
+/* x . y over fixed blocks, each summed in order by GSL, the blocks combined
+ * in order: the same bits for any number of threads. */
+static double dot(const linear_solver *ls, const double *x, const double *y, size_t n)
+{
+    const size_t blocks = block_count(n);
+    double *partial = partial_sums(ls, n);
+    PARALLEL_FOR(ls->threads, schedule(static) if (blocks > 1),
+    for (size_t b = 0; b < blocks; b++) {
+        size_t first = b * REDUCTION_BLOCK;
+        size_t length = n - first < REDUCTION_BLOCK ? n - first : REDUCTION_BLOCK;
+        gsl_vector_const_view xv = gsl_vector_const_view_array(x + first, length);
+        gsl_vector_const_view yv = gsl_vector_const_view_array(y + first, length);
+        double sum = 0.0;
+        gsl_blas_ddot(&xv.vector, &yv.vector, &sum); /* lengths agree: no error */
+        partial[2 * b] = sum;
+    });
+    return combine(partial, blocks, 0);
+}
+
+static double relative_residual(const linear_solver *ls, const sparse_matrix *a,
+                                const double *b, const double *x)
+{
+    const size_t n = (size_t)a->rows, blocks = block_count(n);
+    double *work = ls->work, *partial = partial_sums(ls, n);
+    multiply(ls, a, x, work);
+    PARALLEL_FOR(ls->threads, schedule(static) if (blocks > 1),
+    for (size_t block = 0; block < blocks; block++) {
+        size_t first = block * REDUCTION_BLOCK;
+        size_t end = n - first < REDUCTION_BLOCK ? n : first + REDUCTION_BLOCK;
+        double r2 = 0.0, b2 = 0.0;
+        for (size_t i = first; i < end; i++) {
+            double r = b[i] - work[i];
+            r2 += r * r;
+            b2 += b[i] * b[i];
+        }
+        partial[2 * block] = r2;
+        partial[2 * block + 1] = b2;
+    });
+    double r2 = combine(partial, blocks, 0), b2 = combine(partial, blocks, 1);
     return b2 > 0.0 ? sqrt(r2 / b2) : sqrt(r2);
 }
 
 static int ensure_work(linear_solver *ls, size_t rows)
 {
-    if (ls->work_size >= 5 * rows)
+    size_t size = 5 * rows + 2 * block_count(rows);
+    if (ls->work_size >= size)
         return MPS2P_OK;
-    double *work = realloc(ls->work, 5 * rows * sizeof *work);
+    double *work = realloc(ls->work, size * sizeof *work);
     if (!work)
         return MPS2P_ERR_NOMEM;
     ls->work = work;
-    ls->work_size = 5 * rows;
+    ls->work_size = size;
     return MPS2P_OK;
 }
 
@@ -231,20 +289,17 @@ static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, 
                     double tolerance, size_t max_iterations, size_t *iterations,
                     char *message, size_t size)
 {
-    const size_t n = (size_t)a->rows;
+    const size_t n = (size_t)a->rows, blocks = block_count(n);
     double *r = ls->work, *z = r + n, *p = z + n, *q = p + n, *inverse_diagonal = q + n;
-    gsl_vector_view rv = gsl_vector_view_array(r, n), zv = gsl_vector_view_array(z, n);
-    gsl_vector_view pv = gsl_vector_view_array(p, n), qv = gsl_vector_view_array(q, n);
-    gsl_vector_view xv = gsl_vector_view_array(x, n);
-    gsl_vector_const_view bv = gsl_vector_const_view_array(b, n);
+    double *partial = partial_sums(ls, n);
 
-    double b_norm = gsl_blas_dnrm2(&bv.vector);
+    double b_norm = sqrt(dot(ls, b, b, n));
     if (b_norm == 0.0) {
-        gsl_vector_set_zero(&xv.vector);
+        memset(x, 0, n * sizeof *x);
         *iterations = 0;
         return MPS2P_OK;
     }
-    multiply(a, x, q);
+    multiply(ls, a, x, q);
     for (size_t i = 0; i < n; i++)
         r[i] = b[i] - q[i];
     /* Jacobi preconditioner: the inverse of each row's diagonal entry */
@@ -261,41 +316,53 @@ static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, 
         z[i] = r[i] * inverse_diagonal[i];
         p[i] = z[i];
     }
-    double rz = 0.0;
-    int gsl_status = gsl_blas_ddot(&rv.vector, &zv.vector, &rz);
+    double rz = dot(ls, r, z, n), rr = dot(ls, r, r, n);
     size_t k = 0;
     int status = MPS2P_ERR_SOLVE;
-    while (gsl_status == GSL_SUCCESS) {
-        if (gsl_blas_dnrm2(&rv.vector) <= tolerance * b_norm) {
+    for (;;) {
+        if (sqrt(rr) <= tolerance * b_norm) {
             status = MPS2P_OK;
             break;
         }
         if (k >= max_iterations)
             break;
-        multiply(a, p, q);
-        double pq = 0.0;
-        gsl_status = gsl_blas_ddot(&pv.vector, &qv.vector, &pq);
-        if (gsl_status != GSL_SUCCESS || !(pq > 0.0))
+        multiply(ls, a, p, q);
+        double pq = dot(ls, p, q, n);
+        if (!(pq > 0.0))
             break;
         double alpha = rz / pq;
-        gsl_blas_daxpy(alpha, &pv.vector, &xv.vector);
-        gsl_blas_daxpy(-alpha, &qv.vector, &rv.vector);
-        for (size_t i = 0; i < n; i++)
-            z[i] = r[i] * inverse_diagonal[i];
-        double rz_next = 0.0;
-        gsl_status = gsl_blas_ddot(&rv.vector, &zv.vector, &rz_next);
+        /* x += alpha p, r -= alpha q, z = M^-1 r, and the block sums of r.z
+         * and r.r, in one pass over each block */
+        PARALLEL_FOR(ls->threads, schedule(static) if (blocks > 1),
+        for (size_t block = 0; block < blocks; block++) {
+            size_t first = block * REDUCTION_BLOCK;
+            size_t end = n - first < REDUCTION_BLOCK ? n : first + REDUCTION_BLOCK;
+            double block_rz = 0.0, block_rr = 0.0;
+            for (size_t i = first; i < end; i++) {
+                x[i] += alpha * p[i];
+                r[i] += -alpha * q[i];
+                z[i] = r[i] * inverse_diagonal[i];
+                block_rz += r[i] * z[i];
+                block_rr += r[i] * r[i];
+            }
+            partial[2 * block] = block_rz;
+            partial[2 * block + 1] = block_rr;
+        });
+        double rz_next = combine(partial, blocks, 0);
+        rr = combine(partial, blocks, 1);
         double beta = rz_next / rz;
         rz = rz_next;
-        gsl_vector_scale(&pv.vector, beta);
-        gsl_vector_add(&pv.vector, &zv.vector);
+        PARALLEL_FOR(ls->threads, schedule(static) if (n >= PARALLEL_FROM),
+        for (size_t i = 0; i < n; i++) {
+            p[i] = p[i] * beta + z[i];
+        });
         k++;
     }
     *iterations = k;
     if (status != MPS2P_OK)
         snprintf(message, size,
-                 "CG did not converge: %zu iterations, residual %g of |b|, tolerance %g%s",
-                 k, gsl_blas_dnrm2(&rv.vector) / b_norm, tolerance,
-                 gsl_status != GSL_SUCCESS ? " (GSL error)" : "");
+                 "CG did not converge: %zu iterations, residual %g of |b|, tolerance %g", k,
+                 sqrt(rr) / b_norm, tolerance);
     return status;
 }
 
@@ -315,7 +382,7 @@ int linear_solver_solve(linear_solver *ls, const sparse_matrix *a, const double 
                                 message, size);
     if (status != MPS2P_OK)
         return status;
-    *residual = relative_residual(a, b, x, ls->work);
+    *residual = relative_residual(ls, a, b, x);
     /* A direct solve of an SPD system is accurate to rounding; anything else
      * means the factorization went wrong. */
     double accepted = ls->kind == PRESSURE_SOLVER_CHOLMOD ? 1e-6 : 10.0 * tolerance + 1e-12;

@@ -81,13 +81,14 @@ static int needs_rebuild(const neighbour_list *list, const double *position)
     if (list->builds == 0 || list->stale)
         return 1;
     double limit2 = 0.25 * list->skin * list->skin;
+    int moved = 0; /* an OR: the same for any split among threads */
+    PARALLEL_FOR(list->threads, schedule(static) reduction(| : moved),
     for (size_t i = 0; i < list->count; i++) {
         double dx = position[2 * i] - list->built_at[2 * i];
         double dy = position[2 * i + 1] - list->built_at[2 * i + 1];
-        if (!(dx * dx + dy * dy <= limit2))
-            return 1;
-    }
-    return 0;
+        moved |= !(dx * dx + dy * dy <= limit2);
+    });
+    return moved;
 }
 
 /* Counting sort of particles into cells; particles keep index order inside a
@@ -111,10 +112,26 @@ static void sort_into_cells(neighbour_list *list, const double *position)
         list->cell_particle[list->cell_cursor[list->particle_cell[i]]++] = i;
 }
 
-static int compare_size(const void *a, const void *b)
+/* Entries taken from one cell at a time before merging (a cell's pairs are
+ * merged in chunks of this size when it holds more). */
+#define MERGE_CHUNK 128
+
+/* Merges the sorted run in[0..r) into the sorted row out[0..m), from the back,
+ * so that out[0..m+r) is sorted; returns m + r. */
+static size_t merge_into(size_t *out, size_t m, const size_t *in, size_t r)
 {
-    size_t x = *(const size_t *)a, y = *(const size_t *)b;
-    return (x > y) - (x < y);
+    if (m == 0 || out[m - 1] < in[0]) { /* the runs do not overlap: append */
+        memcpy(out + m, in, r * sizeof *in);
+        return m + r;
+    }
+    size_t a = m, b = r, w = m + r;
+    while (b > 0) {
+        if (a > 0 && out[a - 1] > in[b - 1])
+            out[--w] = out[--a];
+        else
+            out[--w] = in[--b];
+    }
+    return m + r;
 }
 
 /* Visits the 3x3 cells around particle i; counts, or also stores (out),
@@ -122,7 +139,11 @@ static int compare_size(const void *a, const void *b)
  * gets how many of them are closer than short_radius + skin, which are also
  * stored, in the same order, in short_out when out is given. The short list
  * is decided here, from the same distances as the long one, so that the
- * counting and the storing pass agree as they do for the long list. */
+ * counting and the storing pass agree as they do for the long list.
+ * Rows must be sorted by index: the stages sum over them in that order, and
+ * the order fixes the bits of every sum. A cell lists its particles in index
+ * order (sort_into_cells), so each cell gives a sorted run, and the row is
+ * the merge of those runs: no general sort. */
 static size_t gather(const neighbour_list *list, const double *position, size_t i,
                      size_t *out, size_t *short_out, size_t *near)
 {
@@ -130,48 +151,62 @@ static size_t gather(const neighbour_list *list, const double *position, size_t 
     const int with_short = list->short_start != NULL;
     const double short_cut = list->short_radius + list->skin;
     const double short_cut2 = with_short ? short_cut * short_cut : 0.0;
+    const double xi = position[2 * i], yi = position[2 * i + 1];
     size_t c = list->particle_cell[i];
     long cx = (long)(c % list->cells[0]), cy = (long)(c / list->cells[0]);
+    long x0 = cx > 0 ? cx - 1 : 0;
+    long x1 = cx + 1 < (long)list->cells[0] ? cx + 1 : cx;
     size_t found = 0, found_near = 0;
+    size_t run[MERGE_CHUNK];
     for (long y = cy - 1; y <= cy + 1; y++) {
         if (y < 0 || y >= (long)list->cells[1])
             continue;
-        for (long x = cx - 1; x <= cx + 1; x++) {
-            if (x < 0 || x >= (long)list->cells[0])
-                continue;
-            size_t cell = (size_t)y * list->cells[0] + (size_t)x;
-            for (size_t k = list->cell_start[cell]; k < list->cell_start[cell + 1]; k++) {
+        size_t row_cell = (size_t)y * list->cells[0];
+        if (!out) {
+            /* counting: the row's cells are one span of cell_particle */
+            size_t end = list->cell_start[row_cell + (size_t)x1 + 1];
+            for (size_t k = list->cell_start[row_cell + (size_t)x0]; k < end; k++) {
                 size_t j = list->cell_particle[k];
-                if (j == i)
-                    continue;
-                double dx = position[2 * j] - position[2 * i];
-                double dy = position[2 * j + 1] - position[2 * i + 1];
+                double dx = position[2 * j] - xi, dy = position[2 * j + 1] - yi;
                 double d2 = dx * dx + dy * dy;
-                if (d2 < cut2) {
-                    int is_near = d2 < short_cut2;
-                    /* with a short list, the low bit marks its pairs until sorted */
-                    if (out)
-                        out[found] = with_short ? 2 * j + (size_t)is_near : j;
-                    found++;
-                    found_near += (size_t)is_near;
+                int in = d2 < cut2 && j != i;
+                found += (size_t)in;
+                found_near += (size_t)(in && d2 < short_cut2);
+            }
+            continue;
+        }
+        for (long x = x0; x <= x1; x++) {
+            size_t cell = row_cell + (size_t)x;
+            size_t k = list->cell_start[cell], end = list->cell_start[cell + 1];
+            while (k < end) {
+                size_t taken = 0;
+                for (; k < end && taken < MERGE_CHUNK; k++) {
+                    size_t j = list->cell_particle[k];
+                    double dx = position[2 * j] - xi, dy = position[2 * j + 1] - yi;
+                    double d2 = dx * dx + dy * dy;
+                    if (d2 < cut2 && j != i) {
+                        int is_near = d2 < short_cut2;
+                        /* with a short list, the low bit marks its pairs until split */
+                        run[taken++] = with_short ? 2 * j + (size_t)is_near : j;
+                        found_near += (size_t)is_near;
+                    }
                 }
+                if (taken > 0)
+                    found = merge_into(out, found, run, taken);
             }
         }
     }
-    if (out) {
-        qsort(out, found, sizeof *out, compare_size);
-        if (with_short) {
-            /* Without a branch (about a third are near, in no pattern): a
-             * far pair is written one past the row's last near one, a slot
-             * that the next rows, filled after this one, overwrite; the
-             * index keeps a spare slot past the last row for it. */
-            size_t stored = 0;
-            for (size_t k = 0; k < found; k++) {
-                size_t j = out[k] / 2;
-                short_out[stored] = j;
-                stored += out[k] % 2;
-                out[k] = j;
-            }
+    if (out && with_short) {
+        /* Without a branch (about a third are near, in no pattern): a far
+         * pair is written to the next near one's slot, or past the row's last
+         * near one into sink; never into the next row, which another thread
+         * may be filling. */
+        size_t stored = 0, sink;
+        for (size_t k = 0; k < found; k++) {
+            size_t j = out[k] / 2;
+            *(stored < found_near ? short_out + stored : &sink) = j;
+            stored += out[k] % 2;
+            out[k] = j;
         }
     }
     if (near)
@@ -212,24 +247,37 @@ int neighbours_update(neighbour_list *list, const double *position)
         return MPS2P_OK;
     sort_into_cells(list, position);
     const int with_short = list->short_start != NULL;
+    const size_t n = list->count;
+    /* Each row is counted, then stored, by one thread, into its own slots:
+     * the lists do not depend on the number of threads. */
     list->start[0] = 0;
     if (with_short)
         list->short_start[0] = 0;
-    for (size_t i = 0; i < list->count; i++) {
+    PARALLEL_FOR(list->threads, schedule(static),
+    for (size_t i = 0; i < n; i++) {
         size_t near = 0;
-        list->start[i + 1] = list->start[i] + gather(list, position, i, NULL, NULL, &near);
+        list->start[i + 1] = gather(list, position, i, NULL, NULL, &near);
         if (with_short)
-            list->short_start[i + 1] = list->short_start[i] + near;
+            list->short_start[i + 1] = near;
+    });
+    for (size_t i = 0; i < n; i++) {
+        list->start[i + 1] += list->start[i];
+        if (with_short)
+            list->short_start[i + 1] += list->short_start[i];
     }
-    size_t total = list->start[list->count];
-    /* the short index: one spare slot (gather), so never NULL */
+    size_t total = list->start[n];
+    /* the short index: one spare slot, so never NULL */
     if (!reserve(&list->index, &list->capacity, total) ||
         (with_short &&
          !reserve(&list->short_index, &list->short_capacity, list->short_start[list->count] + 1)))
         return fail_growth(list);
-    for (size_t i = 0; total > 0 && i < list->count; i++) /* no pairs: index may be NULL */
-        gather(list, position, i, list->index + list->start[i],
-               with_short ? list->short_index + list->short_start[i] : NULL, NULL);
+    if (total > 0) { /* no pairs: index may be NULL */
+        PARALLEL_FOR(list->threads, schedule(static),
+        for (size_t i = 0; i < n; i++) {
+            gather(list, position, i, list->index + list->start[i],
+                   with_short ? list->short_index + list->short_start[i] : NULL, NULL);
+        });
+    }
     memcpy(list->built_at, position, 2 * list->count * sizeof *position);
     list->builds++;
     list->stale = 0;

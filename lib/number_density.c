@@ -8,6 +8,7 @@ void number_density_compute(mps2p_solver *s, double *out)
     const double re = s->params.re_density * s->l0;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *position = s->state.position;
+    PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         double n = 0.0;
         for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
@@ -17,5 +18,5 @@ void number_density_compute(mps2p_solver *s, double *out)
             n += kernel_weight(sqrt(dx * dx + dy * dy), re);
         }
         out[i] = n;
-    }
+    });
 }

@@ -60,6 +60,12 @@ static const param_entry table[] = {
      "excitation)"},
     {"excitation_period", FIELD(excitation_period), 1.0, 1e-9, BIG,
      "period T of the tank's horizontal oscillation, s (effect excitation)"},
+    /* 1 by default: a library embedded in a host program starts no threads
+     * unasked, and on a busy machine more threads than free cores are slower
+     * (docs/performance.md) */
+    {"threads", FIELD(threads), 1.0, 0.0, 1024.0,
+     "threads of the particle loops (OpenMP); 0 = OpenMP's default (OMP_NUM_THREADS); "
+     "the same result bits for any count"},
     /* two phases (docs/two-phase.md): read only when effect two_phase is on */
     {"light_fraction", FIELD(light_fraction), 0.1, 1e-9, 1.0,
      "a fluid lighter than this fraction of the heaviest is light (two-phase)"},
@@ -118,6 +124,7 @@ void params_set_defaults(params *p)
     p->pressure_solver = PRESSURE_SOLVER_CHOLMOD;
     p->pressure_gradient = GRADIENT_MINIMUM;
     p->ppe_source = PPE_SOURCE_DENSITY;
+    p->ppe_pattern = PPE_PATTERN_DISTANCE;
     p->free_surface = FREE_SURFACE_NUMBER_DENSITY;
     p->two_phase_model = TWO_PHASE_IMPROVED;
     /* Provisional (docs/two-phase.md): the form that ran longest on the
@@ -143,7 +150,8 @@ int params_set(params *p, const char *key, double value, char *message, size_t s
                  key, e->min, e->max, value);
         return MPS2P_ERR_INVALID;
     }
-    if (strcmp(key, "cg_max_iterations") == 0 && value != floor(value)) {
+    if ((strcmp(key, "cg_max_iterations") == 0 || strcmp(key, "threads") == 0) &&
+        value != floor(value)) {
         snprintf(message, size, "parameter %s must be a whole number, got %g", key, value);
         return MPS2P_ERR_INVALID;
     }
@@ -186,6 +194,7 @@ static const option_entry options[] = {
     {"pressure_solver", offsetof(params, pressure_solver), {"cholmod", "cg", NULL}},
     {"pressure_gradient", offsetof(params, pressure_gradient), {"minimum", "corrected", NULL}},
     {"ppe_source", offsetof(params, ppe_source), {"density", "mixed", "ecs", NULL}},
+    {"ppe_pattern", offsetof(params, ppe_pattern), {"distance", "neighbour_list", NULL}},
     {"free_surface", offsetof(params, free_surface), {"number_density", "neighbour_count", NULL}},
     {"two_phase_model", offsetof(params, two_phase_model),
      {"two_step_improved", "two_step", "single", NULL}},

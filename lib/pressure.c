@@ -116,21 +116,42 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
     if (unknowns == 0)
         return MPS2P_OK;
 
-    /* Count the pattern: the diagonal plus unknown neighbours in range. */
-    size_t entries = 0;
+    if (unknowns >= INT_MAX)
+        return fail(s->error, MPS2P_ERR_NOMEM,
+                    "pressure matrix with %ld rows is beyond the int index range", unknowns);
+    /* pattern from the neighbour list: every unknown neighbour, zero beyond re */
+    const int whole_list = s->params.ppe_pattern == PPE_PATTERN_NEIGHBOUR_LIST;
+    if (grow_matrix(&s->matrix, (int)unknowns, 0) != MPS2P_OK)
+        return fail(s->error, MPS2P_ERR_NOMEM,
+                    "out of memory for the pressure matrix (%ld rows)", unknowns);
+    sparse_matrix *m = &s->matrix;
+
+    /* Count the pattern, a row per thread at a time: the diagonal plus unknown
+     * neighbours in range (or all of them, whole_list), into row_start[row +
+     * 1]; then its running sum. */
+    PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         if (s->unknown_of[i] < 0)
             continue;
-        entries++;
+        size_t row_entries = 1;
         for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
             size_t j = nl->index[k];
             if (s->unknown_of[j] < 0)
                 continue;
             double dx = position[2 * j] - position[2 * i];
             double dy = position[2 * j + 1] - position[2 * i + 1];
-            if (dx * dx + dy * dy < re * re)
-                entries++;
+            row_entries += whole_list || dx * dx + dy * dy < re * re;
         }
+        /* a row holds at most the whole list's entries, so an int once the
+         * total is checked below; clamped until then */
+        m->row_start[s->unknown_of[i] + 1] = row_entries > (size_t)INT_MAX ? INT_MAX
+                                                                           : (int)row_entries;
+    });
+    size_t entries = 0;
+    m->row_start[0] = 0;
+    for (long row = 0; row < unknowns; row++) {
+        entries += (size_t)m->row_start[row + 1];
+        m->row_start[row + 1] = entries > (size_t)INT_MAX ? INT_MAX : (int)entries;
     }
     if (entries > (size_t)INT_MAX)
         return fail(s->error, MPS2P_ERR_NOMEM,
@@ -139,14 +160,14 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
         return fail(s->error, MPS2P_ERR_NOMEM,
                     "out of memory for the pressure matrix (%zu entries)", entries);
 
-    sparse_matrix *m = &s->matrix;
+    /* Fill: each row into its own slots, its entries in neighbour order. */
     m->rows = (int)unknowns;
-    int next = 0;
+    PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         long row = s->unknown_of[i];
         if (row < 0)
             continue;
-        m->row_start[row] = next;
+        int next = m->row_start[row];
         int diagonal_at = -1;
         double dirichlet_sum = 0.0;
         double diagonal = sys->density[i] * s->params.compressibility / (dt * dt);
@@ -156,9 +177,10 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
                 continue;
             double dx = position[2 * j] - position[2 * i];
             double dy = position[2 * j + 1] - position[2 * i + 1];
-            if (dx * dx + dy * dy >= re * re)
+            int in_range = dx * dx + dy * dy < re * re;
+            if (!in_range && !(whole_list && s->unknown_of[j] >= 0))
                 continue;
-            double w = kernel_weight(sqrt(dx * dx + dy * dy), re);
+            double w = in_range ? kernel_weight(sqrt(dx * dx + dy * dy), re) : 0.0;
             diagonal += c * w;
             if (s->unknown_of[j] < 0) {
                 if (sys->dirichlet)
@@ -179,8 +201,7 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
         if (sys->dirichlet) /* only then: adding 0 would turn a -0 source into +0 */
             s->rhs[row] += dirichlet_sum;
         s->solution[row] = pressure[i]; /* warm start for CG */
-    }
-    m->row_start[unknowns] = next;
+    });
     return MPS2P_OK;
 }
 
@@ -210,10 +231,11 @@ int pressure_solve_system(mps2p_solver *s, ppe_system *sys)
                     (unsigned long long)s->steps + 1, s->time, message);
 
     int clamp = s->params.clamp_negative_pressure != 0.0;
+    PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         double p = s->unknown_of[i] >= 0 ? s->solution[s->unknown_of[i]]
                    : (sys->dirichlet && takes_part(s, sys, i)) ? sys->dirichlet[i] : 0.0;
         pressure[i] = (clamp && p < 0.0) ? 0.0 : p;
-    }
+    });
     return MPS2P_OK;
 }

@@ -79,6 +79,9 @@ int h5_read_parameters(h5_context *ctx, hid_t file, params *out)
     const char *key;
     for (size_t i = 0; status == 0 && mps2p_param_info(i, &key, NULL, NULL) == MPS2P_OK; i++) {
         double value = 0.0;
+        /* threads changes no result bit; files from before it lack it */
+        if (strcmp(key, "threads") == 0 && H5Aexists(group, key) == 0)
+            continue;
         status = h5_read_attribute(ctx, group, key, H5T_NATIVE_DOUBLE, 1, &value);
         if (status == 0 && params_set(out, key, value, message, sizeof message) != MPS2P_OK) {
             h5_note_text(ctx, "%s", message);
@@ -87,6 +90,9 @@ int h5_read_parameters(h5_context *ctx, hid_t file, params *out)
     }
     for (size_t i = 0; status == 0 && (key = params_option_key(i)) != NULL; i++) {
         char value[64];
+        /* files from before ppe_pattern: its default, their only choice then */
+        if (strcmp(key, "ppe_pattern") == 0 && H5Aexists(group, key) == 0)
+            continue;
         status = h5_read_attribute_string(ctx, group, key, value, sizeof value);
         if (status == 0 &&
             params_set_option(out, key, value, message, sizeof message) != MPS2P_OK) {

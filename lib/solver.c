@@ -223,7 +223,8 @@ int solver_start(mps2p_solver *s)
     if (neighbours_init(&s->neighbours, s->count, cutoff, s->params.neighbour_skin * s->l0,
                         s->params.re_density * s->l0, s->domain) != MPS2P_OK)
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory for the neighbour list");
-    int status = linear_solver_create(s->params.pressure_solver, &s->linear);
+    s->neighbours.threads = s->params.threads;
+    int status = linear_solver_create(s->params.pressure_solver, s->params.threads, &s->linear);
     if (status != MPS2P_OK)
         return fail(NULL, status, "out of memory starting the pressure solver");
     return plan_build(s);
