@@ -178,7 +178,12 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
 
 /* Choices, by name:
  *   pressure_solver   "cholmod" (default, sparse direct) or "cg"
- *                     (Jacobi-preconditioned conjugate gradients)
+ *                     (preconditioned conjugate gradients, cg_tolerance)
+ *   cg_preconditioner "jacobi" (default): the diagonal; "ic0": incomplete
+ *                     Cholesky with the matrix's own pattern, about 3.5
+ *                     times fewer iterations at twice the cost of one; pays
+ *                     with re_laplacian near 2 (a sparse matrix), not with
+ *                     the default 4 (docs/performance.md)
  *   pressure_gradient "minimum" (default): Koshizuka and Oka's gradient with
  *                     p^_i = min of the neighbours' pressures as reference
  *                     (METHOD.md, the paper's form; robust in violent flow);

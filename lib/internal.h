@@ -69,6 +69,7 @@ int fail(char *handle_buffer, int status, const char *format, ...)
 /* ---- parameters (params.c) ---- */
 
 enum pressure_solver_kind { PRESSURE_SOLVER_CHOLMOD = 0, PRESSURE_SOLVER_CG = 1 };
+enum cg_preconditioner_kind { CG_PRECONDITIONER_JACOBI = 0, CG_PRECONDITIONER_IC0 = 1 };
 enum pressure_gradient_kind { GRADIENT_MINIMUM = 0, GRADIENT_CORRECTED = 1 };
 enum free_surface_kind { FREE_SURFACE_NUMBER_DENSITY = 0, FREE_SURFACE_NEIGHBOUR_COUNT = 1 };
 enum ppe_source_kind { PPE_SOURCE_DENSITY = 0, PPE_SOURCE_MIXED = 1, PPE_SOURCE_ECS = 2 };
@@ -143,6 +144,7 @@ typedef struct params {
     double join_hold;          /* 1 = a joined particle stays joined while inside the liquid */
     double threads;            /* threads of the particle loops; 0 = OpenMP's default */
     int pressure_solver;
+    int cg_preconditioner;
     int pressure_gradient;
     int ppe_source;
     int ppe_pattern;
@@ -285,8 +287,10 @@ typedef struct sparse_matrix {
 
 typedef struct linear_solver linear_solver;
 
-/* threads: parameter threads, for CG's loops (team_size). */
-int linear_solver_create(int kind, double threads, linear_solver **solver);
+/* kind: enum pressure_solver_kind; preconditioner: enum cg_preconditioner_kind
+ * (CG only); threads: parameter threads, for CG's loops (team_size). */
+int linear_solver_create(int kind, int preconditioner, double threads,
+                         linear_solver **solver);
 void linear_solver_destroy(linear_solver *solver);
 /* Solves A x = b; x holds the initial guess on entry (used by CG). */
 /* CHOLMOD symbolic analyses so far (a matrix of the last one's pattern reuses it). */

@@ -1,6 +1,7 @@
 /* The pressure system's solvers: CHOLMOD (sparse Cholesky) or conjugate
- * gradients with a Jacobi preconditioner. Neither prints nor aborts: errors
- * come back as status codes with a message. */
+ * gradients, preconditioned by the diagonal (Jacobi) or by an incomplete
+ * Cholesky factor with A's own pattern (IC(0)). Neither prints nor aborts:
+ * errors come back as status codes with a message. */
 #include "internal.h"
 
 #include <cholmod.h>
@@ -15,6 +16,7 @@
 
 struct linear_solver {
     int kind;
+    int preconditioner; /* enum cg_preconditioner_kind, for CG */
     cholmod_common common;
     /* The last factor and the pattern it was analysed for: a matrix with the
      * same pattern is factorised numerically only. The ordering depends on the
@@ -27,6 +29,13 @@ struct linear_solver {
     double *work; /* 5 vectors for CG (the first also serves the residual), then
                      2 partial sums a block (REDUCTION_BLOCK) */
     size_t work_size;
+    /* IC(0): L, the lower triangle of A's pattern, in compressed rows, each
+     * row's diagonal last; then L^T's rows without the diagonal (the
+     * backward substitution reads rows, rather than scattering into them),
+     * and 1 / L's diagonal */
+    int *factor_start, *factor_column, *transpose_start, *transpose_column;
+    double *factor_value, *transpose_value, *inverse_pivot;
+    size_t factor_capacity, factor_row_capacity;
     double threads; /* parameter threads (team_size) */
 };
 
@@ -35,13 +44,14 @@ struct linear_solver {
 static pthread_once_t gsl_handler_once = PTHREAD_ONCE_INIT;
 static void gsl_handler_off(void) { gsl_set_error_handler_off(); }
 
-int linear_solver_create(int kind, double threads, linear_solver **out)
+int linear_solver_create(int kind, int preconditioner, double threads, linear_solver **out)
 {
     pthread_once(&gsl_handler_once, gsl_handler_off);
     linear_solver *ls = calloc(1, sizeof *ls);
     if (!ls)
         return MPS2P_ERR_NOMEM;
     ls->kind = kind;
+    ls->preconditioner = preconditioner;
     ls->threads = threads;
     if (kind == PRESSURE_SOLVER_CHOLMOD) {
         if (!cholmod_start(&ls->common)) {
@@ -74,6 +84,13 @@ void linear_solver_destroy(linear_solver *ls)
     free(ls->pattern_start);
     free(ls->pattern_column);
     free(ls->work);
+    free(ls->factor_start);
+    free(ls->factor_column);
+    free(ls->factor_value);
+    free(ls->transpose_start);
+    free(ls->transpose_column);
+    free(ls->transpose_value);
+    free(ls->inverse_pivot);
     free(ls);
 }
 
@@ -90,6 +107,8 @@ size_t linear_solver_memory(const linear_solver *ls)
     if (ls->pattern_start)
         bytes += ((size_t)ls->pattern_rows + 1) * sizeof *ls->pattern_start;
     bytes += ls->pattern_capacity * sizeof *ls->pattern_column;
+    bytes += ls->factor_row_capacity * (2 * sizeof(int) + sizeof(double)) +
+             2 * ls->factor_capacity * (sizeof(int) + sizeof(double));
     if (ls->kind == PRESSURE_SOLVER_CHOLMOD)
         bytes += ls->common.memory_inuse; /* what CHOLMOD holds, the kept factor too */
     return bytes;
@@ -114,10 +133,17 @@ static void multiply(const linear_solver *ls, const sparse_matrix *a, const doub
 {
     PARALLEL_FOR(ls->threads, schedule(static) if (a->rows >= PARALLEL_FROM),
     for (int i = 0; i < a->rows; i++) {
-        double sum = 0.0;
-        for (int k = a->row_start[i]; k < a->row_start[i + 1]; k++)
-            sum += a->value[k] * x[a->column[k]];
-        y[i] = sum;
+        /* four sums in turn, not one: one chain of dependent adds would wait
+         * on each add's latency */
+        double sum[4] = {0.0, 0.0, 0.0, 0.0};
+        int k = a->row_start[i];
+        const int end = a->row_start[i + 1];
+        for (; k + 4 <= end; k += 4)
+            for (int lane = 0; lane < 4; lane++)
+                sum[lane] += a->value[k + lane] * x[a->column[k + lane]];
+        for (; k < end; k++)
+            sum[0] += a->value[k] * x[a->column[k]];
+        y[i] = (sum[0] + sum[1]) + (sum[2] + sum[3]);
     });
 }
 
@@ -285,6 +311,142 @@ static int solve_cholmod(linear_solver *ls, const sparse_matrix *a, const double
     return MPS2P_OK;
 }
 
+/* Room for L: as many rows as A, and A's lower triangle. */
+/* Grows *array to hold count elements of size bytes; 0 when it cannot. */
+static int grow(void *array, size_t count, size_t size)
+{
+    void *grown = realloc(*(void **)array, count * size);
+    if (!grown)
+        return 0;
+    *(void **)array = grown;
+    return 1;
+}
+
+/* Room for L and L^T: as many rows as A, and A's lower triangle. */
+static int ensure_factor(linear_solver *ls, size_t rows, size_t entries)
+{
+    if (rows + 1 > ls->factor_row_capacity) {
+        if (!grow(&ls->factor_start, rows + 1, sizeof(int)) ||
+            !grow(&ls->transpose_start, rows + 1, sizeof(int)) ||
+            !grow(&ls->inverse_pivot, rows + 1, sizeof(double)))
+            return MPS2P_ERR_NOMEM;
+        ls->factor_row_capacity = rows + 1;
+    }
+    if (entries > ls->factor_capacity) {
+        if (!grow(&ls->factor_column, entries, sizeof(int)) ||
+            !grow(&ls->factor_value, entries, sizeof(double)) ||
+            !grow(&ls->transpose_column, entries, sizeof(int)) ||
+            !grow(&ls->transpose_value, entries, sizeof(double)))
+            return MPS2P_ERR_NOMEM;
+        ls->factor_capacity = entries;
+    }
+    return MPS2P_OK;
+}
+
+/* IC(0) (Meijerink and van der Vorst): L with the lower pattern of A and
+ * L L^T = A on that pattern, row by row. The PPE matrices are M-matrices
+ * (positive diagonal, off-diagonal entries <= 0, diagonally dominant), for
+ * which it exists; should a pivot still come out non-positive (rounding),
+ * A's diagonal entry stands in for it, so L L^T stays positive definite and
+ * CG converges, if more slowly. Serial: the same bits for any threads. */
+static int factor_ic0(linear_solver *ls, const sparse_matrix *a, char *message, size_t size)
+{
+    const int n = a->rows;
+    size_t entries = 0;
+    for (int i = 0; i < n; i++)
+        for (int k = a->row_start[i]; k < a->row_start[i + 1]; k++)
+            entries += a->column[k] <= i;
+    if (ensure_factor(ls, (size_t)n, entries) != MPS2P_OK) {
+        snprintf(message, size, "out of memory for the IC(0) factor (%zu entries)", entries);
+        return MPS2P_ERR_NOMEM;
+    }
+    int *start = ls->factor_start, *column = ls->factor_column;
+    double *value = ls->factor_value;
+    int next = 0;
+    for (int i = 0; i < n; i++) {
+        start[i] = next;
+        int diagonal = -1;
+        for (int k = a->row_start[i]; k < a->row_start[i + 1] && a->column[k] <= i; k++) {
+            column[next] = a->column[k];
+            value[next] = a->value[k];
+            if (a->column[k] == i)
+                diagonal = next;
+            next++;
+        }
+        if (diagonal != next - 1 || !(value[diagonal] > 0.0)) {
+            snprintf(message, size, "CG: diagonal entry %d is %g, not positive", i,
+                     diagonal == next - 1 ? value[diagonal] : 0.0);
+            return MPS2P_ERR_SOLVE;
+        }
+    }
+    start[n] = next;
+    for (int i = 0; i < n; i++) {
+        const int first = start[i], diagonal = start[i + 1] - 1;
+        for (int e = first; e < diagonal; e++) {
+            /* L_ik = (A_ik - sum over j < k of L_ij L_kj) / L_kk: rows i and k
+             * merged by column */
+            const int k = column[e], k_diagonal = start[k + 1] - 1;
+            double sum = value[e];
+            int p = first, q = start[k];
+            while (p < e && q < k_diagonal) {
+                if (column[p] == column[q])
+                    sum -= value[p++] * value[q++];
+                else if (column[p] < column[q])
+                    p++;
+                else
+                    q++;
+            }
+            value[e] = sum * ls->inverse_pivot[k];
+        }
+        double pivot = value[diagonal];
+        for (int e = first; e < diagonal; e++)
+            pivot -= value[e] * value[e];
+        value[diagonal] = sqrt(pivot > 0.0 ? pivot : value[diagonal]);
+        ls->inverse_pivot[i] = 1.0 / value[diagonal];
+    }
+    /* L^T by rows, the diagonal left out: a counting sort by column, which
+     * keeps each of its rows in ascending order */
+    int *t_start = ls->transpose_start, *t_column = ls->transpose_column;
+    double *t_value = ls->transpose_value;
+    memset(t_start, 0, ((size_t)n + 1) * sizeof *t_start);
+    for (int i = 0; i < n; i++)
+        for (int e = start[i]; e < start[i + 1] - 1; e++)
+            t_start[column[e] + 1]++;
+    for (int i = 0; i < n; i++)
+        t_start[i + 1] += t_start[i];
+    for (int i = 0; i < n; i++)
+        for (int e = start[i]; e < start[i + 1] - 1; e++) {
+            int at = t_start[column[e]]++;
+            t_column[at] = i;
+            t_value[at] = value[e];
+        }
+    for (int i = n; i > 0; i--) /* the cursors back to row starts */
+        t_start[i] = t_start[i - 1];
+    t_start[0] = 0;
+    return MPS2P_OK;
+}
+
+/* z = (L L^T)^-1 r: forward, then backward substitution. */
+static void apply_ic0(const linear_solver *ls, size_t n, const double *r, double *z)
+{
+    const int *start = ls->factor_start, *column = ls->factor_column;
+    const int *t_start = ls->transpose_start, *t_column = ls->transpose_column;
+    const double *value = ls->factor_value, *t_value = ls->transpose_value;
+    const double *inverse_pivot = ls->inverse_pivot;
+    for (size_t i = 0; i < n; i++) {
+        double sum = r[i];
+        for (int e = start[i]; e < start[i + 1] - 1; e++)
+            sum -= value[e] * z[column[e]];
+        z[i] = sum * inverse_pivot[i];
+    }
+    for (size_t i = n; i-- > 0;) {
+        double sum = z[i];
+        for (int e = t_start[i]; e < t_start[i + 1]; e++)
+            sum -= t_value[e] * z[t_column[e]];
+        z[i] = sum * inverse_pivot[i];
+    }
+}
+
 static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, double *x,
                     double tolerance, size_t max_iterations, size_t *iterations,
                     char *message, size_t size)
@@ -302,8 +464,16 @@ static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, 
     multiply(ls, a, x, q);
     for (size_t i = 0; i < n; i++)
         r[i] = b[i] - q[i];
+    const int incomplete_cholesky = ls->preconditioner == CG_PRECONDITIONER_IC0;
+    if (incomplete_cholesky) {
+        int status = factor_ic0(ls, a, message, size);
+        if (status != MPS2P_OK)
+            return status;
+        apply_ic0(ls, n, r, z);
+        memcpy(p, z, n * sizeof *p);
+    }
     /* Jacobi preconditioner: the inverse of each row's diagonal entry */
-    for (size_t i = 0; i < n; i++) {
+    for (size_t i = 0; i < n && !incomplete_cholesky; i++) {
         double d = 0.0;
         for (int k = a->row_start[i]; k < a->row_start[i + 1]; k++)
             if ((size_t)a->column[k] == i)
@@ -341,15 +511,19 @@ static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, 
             for (size_t i = first; i < end; i++) {
                 x[i] += alpha * p[i];
                 r[i] += -alpha * q[i];
-                z[i] = r[i] * inverse_diagonal[i];
-                block_rz += r[i] * z[i];
+                if (!incomplete_cholesky) {
+                    z[i] = r[i] * inverse_diagonal[i];
+                    block_rz += r[i] * z[i];
+                }
                 block_rr += r[i] * r[i];
             }
             partial[2 * block] = block_rz;
             partial[2 * block + 1] = block_rr;
         });
-        double rz_next = combine(partial, blocks, 0);
         rr = combine(partial, blocks, 1);
+        if (incomplete_cholesky)
+            apply_ic0(ls, n, r, z);
+        double rz_next = incomplete_cholesky ? dot(ls, r, z, n) : combine(partial, blocks, 0);
         double beta = rz_next / rz;
         rz = rz_next;
         PARALLEL_FOR(ls->threads, schedule(static) if (n >= PARALLEL_FROM),

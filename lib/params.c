@@ -122,6 +122,7 @@ void params_set_defaults(params *p)
     for (size_t i = 0; i < TABLE_SIZE; i++)
         *slot(p, &table[i]) = table[i].default_value;
     p->pressure_solver = PRESSURE_SOLVER_CHOLMOD;
+    p->cg_preconditioner = CG_PRECONDITIONER_JACOBI;
     p->pressure_gradient = GRADIENT_MINIMUM;
     p->ppe_source = PPE_SOURCE_DENSITY;
     p->ppe_pattern = PPE_PATTERN_DISTANCE;
@@ -192,6 +193,7 @@ typedef struct option_entry {
 
 static const option_entry options[] = {
     {"pressure_solver", offsetof(params, pressure_solver), {"cholmod", "cg", NULL}},
+    {"cg_preconditioner", offsetof(params, cg_preconditioner), {"jacobi", "ic0", NULL}},
     {"pressure_gradient", offsetof(params, pressure_gradient), {"minimum", "corrected", NULL}},
     {"ppe_source", offsetof(params, ppe_source), {"density", "mixed", "ecs", NULL}},
     {"ppe_pattern", offsetof(params, ppe_pattern), {"distance", "neighbour_list", NULL}},

@@ -90,8 +90,10 @@ int h5_read_parameters(h5_context *ctx, hid_t file, params *out)
     }
     for (size_t i = 0; status == 0 && (key = params_option_key(i)) != NULL; i++) {
         char value[64];
-        /* files from before ppe_pattern: its default, their only choice then */
-        if (strcmp(key, "ppe_pattern") == 0 && H5Aexists(group, key) == 0)
+        /* files from before ppe_pattern or cg_preconditioner: its default,
+         * their only choice then */
+        if ((strcmp(key, "ppe_pattern") == 0 || strcmp(key, "cg_preconditioner") == 0) &&
+            H5Aexists(group, key) == 0)
             continue;
         status = h5_read_attribute_string(ctx, group, key, value, sizeof value);
         if (status == 0 &&

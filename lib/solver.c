@@ -224,7 +224,8 @@ int solver_start(mps2p_solver *s)
                         s->params.re_density * s->l0, s->domain) != MPS2P_OK)
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory for the neighbour list");
     s->neighbours.threads = s->params.threads;
-    int status = linear_solver_create(s->params.pressure_solver, s->params.threads, &s->linear);
+    int status = linear_solver_create(s->params.pressure_solver, s->params.cg_preconditioner,
+                                      s->params.threads, &s->linear);
     if (status != MPS2P_OK)
         return fail(NULL, status, "out of memory starting the pressure solver");
     return plan_build(s);
