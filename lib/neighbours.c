@@ -241,11 +241,60 @@ static int fail_growth(neighbour_list *list)
     return MPS2P_ERR_NOMEM;
 }
 
+/* Particles in the 3x3 cells around particle i: a bound on its row. */
+static size_t candidates(const neighbour_list *list, size_t i)
+{
+    size_t c = list->particle_cell[i], columns = list->cells[0];
+    size_t cx = c % columns, cy = c / columns;
+    size_t x0 = cx > 0 ? cx - 1 : 0, x1 = cx + 1 < columns ? cx + 1 : cx;
+    size_t y0 = cy > 0 ? cy - 1 : 0, y1 = cy + 1 < list->cells[1] ? cy + 1 : cy;
+    size_t total = 0;
+    for (size_t y = y0; y <= y1; y++)
+        total += list->cell_start[y * columns + x1 + 1] - list->cell_start[y * columns + x0];
+    return total;
+}
+
+/* One thread: each row is stored as it is found, room made from the bound
+ * of its candidates, with no counting pass; the same lists as two passes. */
+static int build_in_one_pass(neighbour_list *list, const double *position)
+{
+    const int with_short = list->short_start != NULL;
+    size_t total = 0, short_total = 0;
+    list->start[0] = 0;
+    if (with_short)
+        list->short_start[0] = 0;
+    for (size_t i = 0; i < list->count; i++) {
+        size_t bound = candidates(list, i);
+        /* the short index keeps one spare slot, so it is never NULL */
+        if (!reserve(&list->index, &list->capacity, total + bound) ||
+            (with_short &&
+             !reserve(&list->short_index, &list->short_capacity, short_total + bound + 1)))
+            return fail_growth(list);
+        size_t near = 0;
+        total += gather(list, position, i, list->index + total,
+                        with_short ? list->short_index + short_total : NULL, &near);
+        short_total += near;
+        list->start[i + 1] = total;
+        if (with_short)
+            list->short_start[i + 1] = short_total;
+    }
+    return MPS2P_OK;
+}
+
 int neighbours_update(neighbour_list *list, const double *position)
 {
     if (!needs_rebuild(list, position))
         return MPS2P_OK;
     sort_into_cells(list, position);
+    if (team_size(list->threads) == 1) {
+        int status = build_in_one_pass(list, position);
+        if (status != MPS2P_OK)
+            return status;
+        memcpy(list->built_at, position, 2 * list->count * sizeof *position);
+        list->builds++;
+        list->stale = 0;
+        return MPS2P_OK;
+    }
     const int with_short = list->short_start != NULL;
     const size_t n = list->count;
     /* Each row is counted, then stored, by one thread, into its own slots:
