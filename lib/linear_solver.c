@@ -128,22 +128,27 @@ static double *partial_sums(const linear_solver *ls, size_t n)
     return ls->work + 5 * n;
 }
 
+/* The sum of value[k] x[column[k]] for k in [first, end): four sums in turn,
+ * not one, since one chain of dependent adds would wait on each add's latency. */
+static inline double sparse_dot(const double *value, const int *column, int first, int end,
+                                const double *x)
+{
+    double sum[4] = {0.0, 0.0, 0.0, 0.0};
+    int k = first;
+    for (; k + 4 <= end; k += 4)
+        for (int lane = 0; lane < 4; lane++)
+            sum[lane] += value[k + lane] * x[column[k + lane]];
+    for (; k < end; k++)
+        sum[0] += value[k] * x[column[k]];
+    return (sum[0] + sum[1]) + (sum[2] + sum[3]);
+}
+
 static void multiply(const linear_solver *ls, const sparse_matrix *a, const double *x,
                      double *y)
 {
     PARALLEL_FOR(ls->threads, schedule(static) if (a->rows >= PARALLEL_FROM),
     for (int i = 0; i < a->rows; i++) {
-        /* four sums in turn, not one: one chain of dependent adds would wait
-         * on each add's latency */
-        double sum[4] = {0.0, 0.0, 0.0, 0.0};
-        int k = a->row_start[i];
-        const int end = a->row_start[i + 1];
-        for (; k + 4 <= end; k += 4)
-            for (int lane = 0; lane < 4; lane++)
-                sum[lane] += a->value[k + lane] * x[a->column[k + lane]];
-        for (; k < end; k++)
-            sum[0] += a->value[k] * x[a->column[k]];
-        y[i] = (sum[0] + sum[1]) + (sum[2] + sum[3]);
+        y[i] = sparse_dot(a->value, a->column, a->row_start[i], a->row_start[i + 1], x);
     });
 }
 
@@ -380,24 +385,21 @@ static int factor_ic0(linear_solver *ls, const sparse_matrix *a, char *message, 
         }
     }
     start[n] = next;
+    /* row i's finished entries, scattered by column (zero elsewhere), so that
+     * its products with row k are a gather, not a merge */
+    double *row_i = ls->work + (size_t)n;
+    memset(row_i, 0, (size_t)n * sizeof *row_i);
     for (int i = 0; i < n; i++) {
         const int first = start[i], diagonal = start[i + 1] - 1;
         for (int e = first; e < diagonal; e++) {
-            /* L_ik = (A_ik - sum over j < k of L_ij L_kj) / L_kk: rows i and k
-             * merged by column */
+            /* L_ik = (A_ik - sum over j < k of L_ij L_kj) / L_kk */
             const int k = column[e], k_diagonal = start[k + 1] - 1;
-            double sum = value[e];
-            int p = first, q = start[k];
-            while (p < e && q < k_diagonal) {
-                if (column[p] == column[q])
-                    sum -= value[p++] * value[q++];
-                else if (column[p] < column[q])
-                    p++;
-                else
-                    q++;
-            }
+            double sum = value[e] - sparse_dot(value, column, start[k], k_diagonal, row_i);
             value[e] = sum * ls->inverse_pivot[k];
+            row_i[k] = value[e];
         }
+        for (int e = first; e < diagonal; e++)
+            row_i[column[e]] = 0.0;
         double pivot = value[diagonal];
         for (int e = first; e < diagonal; e++)
             pivot -= value[e] * value[e];
@@ -433,18 +435,12 @@ static void apply_ic0(const linear_solver *ls, size_t n, const double *r, double
     const int *t_start = ls->transpose_start, *t_column = ls->transpose_column;
     const double *value = ls->factor_value, *t_value = ls->transpose_value;
     const double *inverse_pivot = ls->inverse_pivot;
-    for (size_t i = 0; i < n; i++) {
-        double sum = r[i];
-        for (int e = start[i]; e < start[i + 1] - 1; e++)
-            sum -= value[e] * z[column[e]];
-        z[i] = sum * inverse_pivot[i];
-    }
-    for (size_t i = n; i-- > 0;) {
-        double sum = z[i];
-        for (int e = t_start[i]; e < t_start[i + 1]; e++)
-            sum -= t_value[e] * z[t_column[e]];
-        z[i] = sum * inverse_pivot[i];
-    }
+    for (size_t i = 0; i < n; i++)
+        z[i] = (r[i] - sparse_dot(value, column, start[i], start[i + 1] - 1, z)) *
+               inverse_pivot[i];
+    for (size_t i = n; i-- > 0;)
+        z[i] = (z[i] - sparse_dot(t_value, t_column, t_start[i], t_start[i + 1], z)) *
+               inverse_pivot[i];
 }
 
 static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, double *x,
