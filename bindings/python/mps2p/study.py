@@ -5,18 +5,24 @@ records, for every run, wall time (total and per stage), particle-steps per
 second, memory and the errors against references:
 
 - dam break (Martin & Moyce 1952, column a = 0.15 m, 2a high, 0.6 m tank):
-  mean |error| of the surge front Z = z/a against the a = 2.25 in series for
-  1 <= T <= 2.5 (front_error), and against the finest run at the same T
-  (front_error_vs_finest, the convergence measure: the experiment's own
-  gate-opening delay keeps every MPS run 10-20 % ahead of it);
+  mean |error| of the surge front Z = z/a against both of their series for
+  1 <= T <= 2.5 (front_error: 5 points), and against the finest run at T = 1.0,
+  1.1, ..., 2.5 (front_error_vs_finest, the convergence measure: the
+  experiment's own gate-opening delay keeps every MPS run 10-20 % ahead of it);
 - still tank (water 0.3 m deep, 0.3 m wide, still-water scheme, 2 s): error of
   the pressure at a probe 0.05 m above the bottom, averaged over the second
   second, against rho g h, and the pressure noise there (standard deviation
-  over that second / rho g h).
+  over that second / rho g h);
+- two-phase dam break (the paper's case: the same column with air around it,
+  the improved two-step model with the drift reaction, fixed dt 2e-4 s, to
+  T = 2.3, t = 0.2 s, before the front reaches the far wall): the water's
+  front against the finest run at T = 1.0, ..., 2.3 (front_error_vs_finest),
+  and, for the record, against Martin & Moyce (front_error: 5 points).
 
 Knobs: particle spacing l0, CFL number, pressure solver (CHOLMOD, CG at two
-tolerances) and the Laplacian radius. `quick` runs the same code on two
-spacings and fewer variants (none for the still tank), small enough for CI.
+tolerances, CG with the IC(0) preconditioner) and the Laplacian radius.
+`quick` runs the same code on two spacings and fewer variants (none for the
+still tank and the two-phase case), small enough for CI.
 
 Output in the folder: study.csv (one row per run), error_vs_time.png (with the
 Pareto front), error_vs_l0.png (with the observed order), time_vs_particles.png
@@ -36,6 +42,11 @@ G = 9.81
 COLUMN = 0.15
 STILL_WATER = {"pressure_gradient": "corrected", "ppe_source": "ecs",
                "collision_distance": 0.995}
+# as examples/scenes/ikari2003_dam_break_air.toml (docs/two-phase.md)
+TWO_PHASE = {"dt": 2e-4, "pressure_solver": "cg", "cg_tolerance": 1e-6,
+             "gas_cg_tolerance": 1e-4, "two_phase_model": "two_step_improved",
+             "interface_reaction": "drift"}
+TWO_PHASE_END_T = 2.3
 
 
 def _dam_break(l0, settings):
@@ -45,17 +56,42 @@ def _dam_break(l0, settings):
     scene.add_tank(0.0, 0.0, 0.6, 0.7)
     with scene:
         solver = Solver(scene)
-    T_ref, Z_ref = martin_moyce()[2.25]
-    keep = (T_ref >= 1.0) & (T_ref <= 2.5)
+    return _follow_front(solver, water, l0, 2.5)
+
+
+def _two_phase_dam_break(l0, settings):
+    merged = dict(TWO_PHASE)
+    merged.update(settings)
+    scene = Scene(l0, **merged)
+    water = scene.add_fluid("water", 1000.0, 1e-6)
+    air = scene.add_fluid("air", 1.2, 1.5e-5)
+    scene.add_fluid_box(water, 0.0, 0.0, COLUMN, 2 * COLUMN)
+    scene.add_fluid_box(air, COLUMN, 0.0, 0.6, 0.7)
+    scene.add_fluid_box(air, 0.0, 2 * COLUMN, COLUMN, 0.7)
+    scene.add_tank(0.0, 0.0, 0.6, 1.2)
+    with scene:
+        solver = Solver(scene)
+    return _follow_front(solver, water, l0, TWO_PHASE_END_T)
+
+
+def _follow_front(solver, water, l0, T_end):
+    """Steps through T = 1.0, 1.1, ..., T_end and Martin & Moyce's points (both
+    series) in [1, T_end], taking the water's front Z = z/a at each: front_error
+    is the mean error against Martin & Moyce, _fronts the front on the T grid
+    (compared with the finest run's there)."""
+    reference = sorted((T, Z) for T_ref, Z_ref in martin_moyce().values()
+                       for T, Z in zip(T_ref, Z_ref) if 1.0 <= T <= T_end)
+    grid = [round(1.0 + 0.1 * k, 10) for k in range(int(round((T_end - 1.0) / 0.1)) + 1)]
     scale = np.sqrt(2 * G / COLUMN)
-    errors, fronts = [], []
+    front_at = {}
     started = clock.perf_counter()
-    for T, Z in zip(T_ref[keep], Z_ref[keep]):
+    for T in sorted(set(grid) | {T for T, _ in reference}):
         solver.advance_to(T / scale)
-        fronts.append(solver.front(water, 2 * l0) / COLUMN)
-        errors.append(abs(fronts[-1] - Z) / Z)
+        front_at[T] = solver.front(water, 2 * l0) / COLUMN
     wall = clock.perf_counter() - started
-    return solver, wall, {"front_error": float(np.mean(errors)), "_fronts": fronts}
+    errors = [abs(front_at[T] - Z) / Z for T, Z in reference]
+    return solver, wall, {"front_error": float(np.mean(errors)),
+                          "_fronts": [front_at[T] for T in grid]}
 
 
 def _still_tank(l0, settings, depth=0.3, duration=2.0):
@@ -81,7 +117,9 @@ def _still_tank(l0, settings, depth=0.3, duration=2.0):
                           "pressure_noise": float(samples.std() / expected)}
 
 
-PROBLEMS = {"dam_break": _dam_break, "still_tank": _still_tank}
+PROBLEMS = {"dam_break": _dam_break, "still_tank": _still_tank,
+            "two_phase": _two_phase_dam_break}
+FRONT_PROBLEMS = ("dam_break", "two_phase")
 
 
 def plan(quick):
@@ -89,17 +127,30 @@ def plan(quick):
     runs = []
     for problem in PROBLEMS:
         levels = [0.02, 0.01] if quick else [0.02, 0.01, 0.005, 0.0025]
-        if problem == "still_tank" and not quick:
-            levels = levels[:3]  # 2 s of a 14400-particle tank is past this study's budget
+        if problem != "dam_break" and not quick:
+            # 2 s of a 14400-particle tank, or 1000 steps of 71,000 particles with
+            # two pressure solves each, is past this study's budget
+            levels = levels[:3]
         for l0 in levels:
             runs.append((problem, l0, {}, "default"))
         base = levels[-1] if quick else 0.01
-        variants = [("cfl 0.1", {"cfl": 0.1}), ("cfl 0.4", {"cfl": 0.4}),
-                    ("cg 1e-9", {"pressure_solver": "cg"})]
-        if not quick:
+        if problem == "two_phase":
+            # dt is fixed (TWO_PHASE) and both solves are CG already
+            variants = [] if quick else [
+                ("cg ic0", {"cg_preconditioner": "ic0"}),
+                ("re_laplacian 2.1", {"re_laplacian": 2.1})]
+        else:
+            variants = [("cfl 0.1", {"cfl": 0.1}), ("cfl 0.4", {"cfl": 0.4}),
+                        ("cg 1e-9", {"pressure_solver": "cg"})]
+        if not quick and problem != "two_phase":
             variants += [("cg 1e-6", {"pressure_solver": "cg", "cg_tolerance": 1e-6}),
+                         ("cg ic0 1e-6", {"pressure_solver": "cg", "cg_tolerance": 1e-6,
+                                          "cg_preconditioner": "ic0"}),
                          ("re_laplacian 3.1", {"re_laplacian": 3.1}),
-                         ("re_laplacian 2.1", {"re_laplacian": 2.1})]
+                         ("re_laplacian 2.1", {"re_laplacian": 2.1}),
+                         ("re_laplacian 2.1, cg ic0 1e-6",
+                          {"re_laplacian": 2.1, "pressure_solver": "cg", "cg_tolerance": 1e-6,
+                           "cg_preconditioner": "ic0"})]
         if quick and problem == "still_tank":
             continue  # 2 s of still water per run: the quick study keeps the spacings only
         for label, settings in variants:
@@ -143,15 +194,18 @@ def study(out_dir, quick=False, log=print):
 
 
 def _compare_with_finest(rows):
-    """front_error_vs_finest for every dam-break run but the finest default one."""
-    dam = [r for r in rows if r["problem"] == "dam_break"]
-    finest = min((r for r in dam if r["variant"] == "default"), key=lambda r: r["l0"])
-    reference = np.array(finest["_fronts"])
-    for r in dam:
-        if r is not finest:
-            r["front_error_vs_finest"] = float(np.mean(np.abs(np.array(r["_fronts"]) - reference)
-                                                       / reference))
-    finest["reference"] = "finest"
+    """front_error_vs_finest for every run of a front problem but its finest default one."""
+    for problem in FRONT_PROBLEMS:
+        mine = [r for r in rows if r["problem"] == problem]
+        if not mine:
+            continue
+        finest = min((r for r in mine if r["variant"] == "default"), key=lambda r: r["l0"])
+        reference = np.array(finest["_fronts"])
+        for r in mine:
+            if r is not finest:
+                r["front_error_vs_finest"] = float(np.mean(
+                    np.abs(np.array(r["_fronts"]) - reference) / reference))
+        finest["reference"] = "finest"
 
 
 def _write_csv(path, rows):
@@ -165,9 +219,9 @@ def _write_csv(path, rows):
 
 
 def _error_of(row):
-    """The convergence measure: against the finest run (dam break; None for the
-    finest itself) or against rho g h (still tank)."""
-    if row["problem"] == "dam_break":
+    """The convergence measure: against the finest run (the dam breaks; None for
+    the finest itself) or against rho g h (still tank)."""
+    if row["problem"] in FRONT_PROBLEMS:
         return row.get("front_error_vs_finest")
     return row["pressure_error"]
 
@@ -193,10 +247,13 @@ def _pictures_and_conclusions(out_dir, rows):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     lines = ["# Accuracy-cost study\n"]
-    fig1, axes1 = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
-    fig2, axes2 = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
+    problems = [p for p in PROBLEMS if any(r["problem"] == p for r in rows)]
+    fig1, axes1 = plt.subplots(1, len(problems), figsize=(5.5 * len(problems), 4.2),
+                               layout="constrained", squeeze=False)
+    fig2, axes2 = plt.subplots(1, len(problems), figsize=(5.5 * len(problems), 4.2),
+                               layout="constrained", squeeze=False)
     fig3, ax3 = plt.subplots(figsize=(6, 4.2), layout="constrained")
-    for (ax1, ax2), problem in zip(zip(axes1, axes2), PROBLEMS):
+    for (ax1, ax2), problem in zip(zip(axes1[0], axes2[0]), problems):
         mine = [r for r in rows if r["problem"] == problem and _error_of(r) is not None]
         points = [(r["wall_seconds"], _error_of(r)) for r in mine]
         for r, (t, e) in zip(mine, points):
@@ -205,7 +262,7 @@ def _pictures_and_conclusions(out_dir, rows):
         front = pareto(points)
         ax1.loglog([points[k][0] for k in front], [100 * points[k][1] for k in front], "k--",
                    label="Pareto front")
-        what = ("front error against the finest run (%)" if problem == "dam_break"
+        what = ("front error against the finest run (%)" if problem in FRONT_PROBLEMS
                 else "pressure error (%)")
         ax1.set_xlabel("wall time (s)")
         ax1.set_ylabel(what)
@@ -219,11 +276,12 @@ def _pictures_and_conclusions(out_dir, rows):
         ax2.set_xlabel("l0 (m)")
         ax2.set_ylabel(what)
         lines.append("## %s\n" % problem)
-        if problem == "dam_break":
-            lines.append("Front against Martin & Moyce (mean over 1 <= T <= 2.5): %s." % ", ".join(
+        if problem in FRONT_PROBLEMS:
+            lines.append("Front against Martin & Moyce (mean over 1 <= T <= %g): %s." % (
+                2.5 if problem == "dam_break" else TWO_PHASE_END_T, ", ".join(
                 "%.1f %% at l0 %g" % (100 * r["front_error"], r["l0"])
                 for r in sorted((r for r in rows if r["problem"] == problem
-                                 and r["variant"] == "default"), key=lambda r: -r["l0"])))
+                                 and r["variant"] == "default"), key=lambda r: -r["l0"]))))
             lines.append("The errors below are against the finest run (l0 %g)." % min(
                 r["l0"] for r in rows if r["problem"] == problem))
         if len(levels) >= 2 and np.all(errs > 0):
