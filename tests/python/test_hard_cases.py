@@ -34,13 +34,18 @@ def test_conventional_model_diverges_where_the_drop_traps_air():
     """The drop (free fall from 0.15 m) reaches the pool at 0.175 s; the air
     between them is squeezed. The conventional model cannot hold it: detected,
     stopped, the place and the squeezed gas particle named. When is chaotic
-    (0.175 s with cg_tolerance 1e-9, 0.314 s with the scene's 1e-6): only
-    "not before the drop is near the pool, and within 1 s" is asserted."""
+    (0.175 s with cg_tolerance 1e-9, 0.314 s with the scene's 1e-6 before the
+    sparse product's summation order changed, 0.71 s after): only "not before
+    the drop is near the pool, and within 1 s" is asserted, and that nothing
+    was wrong before then (on the way it may also push a gas particle through
+    a wall: a failure of the same model, after the impact)."""
     report = check_run(scene("drop_into_pool"), until=1.0, options=CONVENTIONAL)
     assert report["status"] == "diverged"
     assert 0.15 < report["time"] < 1.0
     assert "gas particle" in report["reason"]
-    assert report["violations"].keys() == {"divergence"}
+    assert "divergence" in report["violations"]
+    for what, message in report["violations"].items():
+        assert float(message.split(" s:")[0].split("t = ")[1]) > 0.15, (what, message)
 
 
 def test_improved_model_holds_the_drop_impact():
