@@ -214,6 +214,10 @@ VARIANTS = [
     ("collision_distance 0.995, cfl 0.4", {"cfl": 0.4}),
     ("collision_distance 0.995, re_laplacian 2.1", {"re_laplacian": 2.1}),
     ("collision_distance 0.995, cfl 0.4, re_laplacian 2.1", {"cfl": 0.4, "re_laplacian": 2.1}),
+    ("+ cg_tolerance 1e-6", {"cfl": 0.4, "re_laplacian": 2.1, "cg_tolerance": 1e-6}),
+    ("+ cg_preconditioner ic0 (pysph_dam_break_2d_fast.toml)",
+     {"cfl": 0.4, "re_laplacian": 2.1, "cg_tolerance": 1e-6, "cg_preconditioner": "ic0"}),
+    ("collision_distance 0.995, cg_preconditioner ic0", {"cg_preconditioner": "ic0"}),
 ]
 
 
