@@ -281,20 +281,9 @@ static int build_in_one_pass(neighbour_list *list, const double *position)
     return MPS2P_OK;
 }
 
-int neighbours_update(neighbour_list *list, const double *position)
+/* Several threads: a counting pass, then each row stored in its own slots. */
+static int build_in_two_passes(neighbour_list *list, const double *position)
 {
-    if (!needs_rebuild(list, position))
-        return MPS2P_OK;
-    sort_into_cells(list, position);
-    if (team_size(list->threads) == 1) {
-        int status = build_in_one_pass(list, position);
-        if (status != MPS2P_OK)
-            return status;
-        memcpy(list->built_at, position, 2 * list->count * sizeof *position);
-        list->builds++;
-        list->stale = 0;
-        return MPS2P_OK;
-    }
     const int with_short = list->short_start != NULL;
     const size_t n = list->count;
     /* Each row is counted, then stored, by one thread, into its own slots:
@@ -327,6 +316,18 @@ int neighbours_update(neighbour_list *list, const double *position)
                    with_short ? list->short_index + list->short_start[i] : NULL, NULL);
         });
     }
+    return MPS2P_OK;
+}
+
+int neighbours_update(neighbour_list *list, const double *position)
+{
+    if (!needs_rebuild(list, position))
+        return MPS2P_OK;
+    sort_into_cells(list, position);
+    int status = team_size(list->threads) == 1 ? build_in_one_pass(list, position)
+                                               : build_in_two_passes(list, position);
+    if (status != MPS2P_OK)
+        return status;
     memcpy(list->built_at, position, 2 * list->count * sizeof *position);
     list->builds++;
     list->stale = 0;
