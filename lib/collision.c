@@ -1,6 +1,9 @@
 /* Collision model: particles closer than collision_distance that approach
  * each other lose the approaching part of their relative velocity (with
- * restitution). Fluid pairs exchange momentum by mass; walls do not move. */
+ * restitution). Fluid pairs exchange momentum by mass; walls do not move.
+ * The corrected scheme damps every approaching pair closer than about the
+ * lattice spacing (0.995 l0): its gradient does not push a close pair apart
+ * by itself, and without the damper it diverges (docs/validation.md). */
 #include "internal.h"
 
 #include <math.h>

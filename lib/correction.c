@@ -7,7 +7,12 @@
  *   corrected  p_i as reference, times the inverse of the corrective matrix
  *              (Khayyer and Gotoh 2011): exact for a linear field on any
  *              arrangement, so no background; particles with a one-sided
- *              neighbourhood fall back to the uncorrected difference form. */
+ *              neighbourhood fall back to the uncorrected difference form.
+ *              With wall_ghosts = hydrostatic a dry wall takes the ghost value
+ *              the PPE gave it (pressure.c), not its p = 0: a dry wall at 0
+ *              next to wet fluid pulls the fluid to it, and in still water
+ *              turns a slow vortex at each corner where the surface meets a
+ *              wall that stands above it. */
 #include "internal.h"
 
 static void pressure_gradient_at(const mps2p_solver *s, size_t i, const double *pressure,
@@ -17,7 +22,10 @@ static void pressure_gradient_at(const mps2p_solver *s, size_t i, const double *
         gradient_at(s, i, pressure, minimum_around(s, i, pressure), gradient);
         return;
     }
-    gradient_at(s, i, pressure, pressure[i], gradient);
+    if (s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC)
+        gradient_with_ghosts_at(s, i, pressure, gradient);
+    else
+        gradient_at(s, i, pressure, pressure[i], gradient);
     double inverse[3];
     if (corrective_matrix_at(s, i, inverse)) {
         double gx = gradient[0], gy = gradient[1];

@@ -77,6 +77,12 @@ enum ppe_source_kind { PPE_SOURCE_DENSITY = 0, PPE_SOURCE_MIXED = 1, PPE_SOURCE_
  * the neighbour list (zeros beyond re_laplacian), which stands as long as
  * the list and the unknowns do, so CHOLMOD's analysis is reused (pressure.c). */
 enum ppe_pattern_kind { PPE_PATTERN_DISTANCE = 0, PPE_PATTERN_NEIGHBOUR_LIST = 1 };
+/* What dummy walls, and walls with no fluid around them (free surface),
+ * stand for in the PPE and the pressure gradient (pressure.c, correction.c). */
+enum wall_ghosts_kind {
+    WALL_GHOSTS_NONE = 0,       /* Koshizuka and Oka: dummies only fill n, a dry wall p = 0 */
+    WALL_GHOSTS_HYDROSTATIC = 1 /* p_j = p_i + rho_i g . r_ij, seen from each particle i */
+};
 /* Two-phase model (effects two_phase and interface_reaction, phases.c). */
 enum two_phase_model_kind {
     TWO_PHASE_IMPROVED = 0, /* two_step_improved: the default */
@@ -115,6 +121,7 @@ typedef struct params {
     double dt;
     double cfl;
     double diffusion_number;
+    double gravity_number;
     double dt_max;
     double collision_distance;
     double collision_restitution;
@@ -148,6 +155,7 @@ typedef struct params {
     int pressure_gradient;
     int ppe_source;
     int ppe_pattern;
+    int wall_ghosts;
     int free_surface;
     int two_phase_model;
     int interface_reaction;
@@ -529,6 +537,17 @@ int xdmf_write(const char *xdmf_path, const char *h5_name, size_t count, const d
                const size_t *particles, char *handle_error);
 
 /* ---- MPS operators at particle i (operators.c) ---- */
+/* A dummy, or a wall that is free surface (surface: the PPE's flags), is a
+ * hydrostatic ghost under option wall_ghosts = hydrostatic (pressure.c). */
+static inline int is_hydrostatic_ghost(const mps2p_solver *s, const unsigned char *surface,
+                                       size_t j)
+{
+    return s->kind[j] == MPS2P_KIND_DUMMY || (s->kind[j] == MPS2P_KIND_WALL && surface[j]);
+}
+/* The gradient with p_i as reference over non-dummy neighbours, where a wall
+ * on the free surface takes the ghost value p_i + rho_i g . r_ij. */
+void gradient_with_ghosts_at(const mps2p_solver *s, size_t i, const double *pressure,
+                             double out[2]);
 /* (d / n0) sum_j (f_j - reference) r_ij w / |r_ij|^2 over non-dummy neighbours. */
 void gradient_at(const mps2p_solver *s, size_t i, const double *field, double reference,
                  double out[2]);

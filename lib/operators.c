@@ -42,6 +42,35 @@ void gradient_masked_at(const mps2p_solver *s, size_t i, const double *field, do
     gradient_core(s, i, field, 1, 0, reference, mask, out);
 }
 
+void gradient_with_ghosts_at(const mps2p_solver *s, size_t i, const double *pressure,
+                             double out[2])
+{
+    const double re = s->params.re_density * s->l0, re2 = re * re;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
+    const double *position = s->state.position;
+    const double hx = s->density[i] * s->params.gravity[0];
+    const double hy = s->density[i] * s->params.gravity[1];
+    double gx = 0.0, gy = 0.0;
+    for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+        size_t j = nl.index[k];
+        if (s->kind[j] == MPS2P_KIND_DUMMY)
+            continue;
+        double dx = position[2 * j] - position[2 * i];
+        double dy = position[2 * j + 1] - position[2 * i + 1];
+        double r2 = dx * dx + dy * dy;
+        if (r2 >= re2 || r2 <= 0.0)
+            continue;
+        double difference = is_hydrostatic_ghost(s, s->on_surface, j)
+                                 ? hx * dx + hy * dy
+                                 : pressure[j] - pressure[i];
+        double f = difference / r2 * kernel_weight(sqrt(r2), re);
+        gx += f * dx;
+        gy += f * dy;
+    }
+    out[0] = 2.0 / s->n0_density * gx;
+    out[1] = 2.0 / s->n0_density * gy;
+}
+
 int corrective_matrix_at(const mps2p_solver *s, size_t i, double inverse[3])
 {
     const double re = s->params.re_density * s->l0, re2 = re * re;

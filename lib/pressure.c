@@ -160,6 +160,15 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
         return fail(s->error, MPS2P_ERR_NOMEM,
                     "out of memory for the pressure matrix (%zu entries)", entries);
 
+    /* Hydrostatic ghosts (option wall_ghosts; single phase): a dummy, or a
+     * wall on the free surface (a dry wall), seen from row i takes p_i +
+     * rho_i g . r_ij, so its Laplacian term w (p_j - p_i) is the known
+     * w rho_i g . r_ij: it goes to the right-hand side and the matrix stays
+     * symmetric. Koshizuka and Oka's dummies are left out of the Laplacian, and
+     * a dry wall is p = 0: both bend the hydrostatic field near walls, which
+     * still water measures (docs/validation.md). */
+    const int ghosts = s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC && !sys->part;
+    const double gx = s->params.gravity[0], gy = s->params.gravity[1];
     /* Fill: each row into its own slots, its entries in neighbour order. */
     m->rows = (int)unknowns;
     PARALLEL_FOR(s->params.threads, schedule(static),
@@ -169,15 +178,22 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
             continue;
         int next = m->row_start[row];
         int diagonal_at = -1;
-        double dirichlet_sum = 0.0;
+        double dirichlet_sum = 0.0, ghost_sum = 0.0;
         double diagonal = sys->density[i] * s->params.compressibility / (dt * dt);
         for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
             size_t j = nl->index[k];
-            if (!takes_part(s, sys, j))
+            const int ghost = ghosts && is_hydrostatic_ghost(s, sys->surface, j);
+            if (!ghost && !takes_part(s, sys, j))
                 continue;
             double dx = position[2 * j] - position[2 * i];
             double dy = position[2 * j + 1] - position[2 * i + 1];
             int in_range = dx * dx + dy * dy < re * re;
+            if (ghost) {
+                if (in_range)
+                    ghost_sum += c * kernel_weight(sqrt(dx * dx + dy * dy), re) *
+                                 sys->density[i] * (gx * dx + gy * dy);
+                continue;
+            }
             if (!in_range && !(whole_list && s->unknown_of[j] >= 0))
                 continue;
             double w = in_range ? kernel_weight(sqrt(dx * dx + dy * dy), re) : 0.0;
@@ -200,6 +216,8 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
         s->rhs[row] = source_term(s, sys, i, dt);
         if (sys->dirichlet) /* only then: adding 0 would turn a -0 source into +0 */
             s->rhs[row] += dirichlet_sum;
+        if (ghosts)
+            s->rhs[row] += ghost_sum;
         s->solution[row] = pressure[i]; /* warm start for CG */
     });
     return MPS2P_OK;

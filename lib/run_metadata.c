@@ -82,6 +82,11 @@ int h5_read_parameters(h5_context *ctx, hid_t file, params *out)
         /* threads changes no result bit; files from before it lack it */
         if (strcmp(key, "threads") == 0 && H5Aexists(group, key) == 0)
             continue;
+        /* files from before the corrected scheme: no gravity limit on dt */
+        if (strcmp(key, "gravity_number") == 0 && H5Aexists(group, key) == 0) {
+            out->gravity_number = 0.0;
+            continue;
+        }
         status = h5_read_attribute(ctx, group, key, H5T_NATIVE_DOUBLE, 1, &value);
         if (status == 0 && params_set(out, key, value, message, sizeof message) != MPS2P_OK) {
             h5_note_text(ctx, "%s", message);
@@ -90,11 +95,19 @@ int h5_read_parameters(h5_context *ctx, hid_t file, params *out)
     }
     for (size_t i = 0; status == 0 && (key = params_option_key(i)) != NULL; i++) {
         char value[64];
+        /* the scheme is a name for the other settings, read on their own */
+        if (strcmp(key, "scheme") == 0)
+            continue;
         /* files from before ppe_pattern or cg_preconditioner: its default,
          * their only choice then */
         if ((strcmp(key, "ppe_pattern") == 0 || strcmp(key, "cg_preconditioner") == 0) &&
             H5Aexists(group, key) == 0)
             continue;
+        /* files from before wall_ghosts had none */
+        if (strcmp(key, "wall_ghosts") == 0 && H5Aexists(group, key) == 0) {
+            out->wall_ghosts = WALL_GHOSTS_NONE;
+            continue;
+        }
         status = h5_read_attribute_string(ctx, group, key, value, sizeof value);
         if (status == 0 &&
             params_set_option(out, key, value, message, sizeof message) != MPS2P_OK) {

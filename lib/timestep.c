@@ -1,4 +1,8 @@
-/* Time step: fixed, or adaptive under the CFL and viscous diffusion limits. */
+/* Time step: fixed, or adaptive under the CFL, viscous diffusion and gravity
+ * limits. The gravity limit dt <= gravity_number sqrt(l0 / |g|) is the
+ * corrected scheme's: water at rest loses its lattice above about 0.04
+ * sqrt(l0 / |g|) (measured at l0 = 0.01 and 0.02 m, docs/validation.md),
+ * whatever the speeds, which are near 0 there. */
 #include "internal.h"
 
 #include <math.h>
@@ -24,5 +28,8 @@ double timestep_choose(const mps2p_solver *s)
         max_viscosity += s->eddy_viscosity_max;
     if (max_viscosity > 0.0)
         dt = fmin(dt, s->params.diffusion_number * s->l0 * s->l0 / max_viscosity);
+    const double g = hypot(s->params.gravity[0], s->params.gravity[1]);
+    if (s->params.gravity_number > 0.0 && g > 0.0 && s->effect_active[EFFECT_GRAVITY])
+        dt = fmin(dt, s->params.gravity_number * sqrt(s->l0 / g));
     return dt;
 }
