@@ -1,0 +1,342 @@
+"""The validation page's figures (docs/validation.md): still water, the dam
+break against Martin & Moyce (1952) and the impact pressure against Buchner
+(2002), for the default scheme and Koshizuka and Oka's (scheme koshizuka1996).
+
+    python3 examples/validation.py still|dam|buchner|all [--quick] [--out DIR]
+
+Each case writes CSV series, a JSON summary and PNG pictures into DIR
+(default out/validation). --quick runs shorter versions (still water 2 s,
+Buchner at H/l0 = 40 only). Reference data: data/ (cited in data/README.md).
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import sys
+
+import numpy as np
+
+import mps2p
+
+G = 9.81
+RHO = 1000.0
+SCHEMES = ("corrected", "koshizuka1996")
+DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "data")
+
+
+def isolated_count(xy, spacing, radius=2.1):
+    """Particles with no other particle within radius * spacing (a cell grid)."""
+    reach = radius * spacing
+    cells = {}
+    keys = np.floor(xy / reach).astype(np.int64)
+    for i, (cx, cy) in enumerate(map(tuple, keys)):
+        cells.setdefault((cx, cy), []).append(i)
+    alone = 0
+    for i, (cx, cy) in enumerate(map(tuple, keys)):
+        near = False
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                for j in cells.get((cx + dx, cy + dy), ()):
+                    if j != i and np.sum((xy[j] - xy[i]) ** 2) <= reach * reach:
+                        near = True
+                        break
+                if near:
+                    break
+            if near:
+                break
+        alone += not near
+    return alone
+
+
+def write_csv(path, header, rows):
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(header)
+        w.writerows(rows)
+
+
+# ---- still water -------------------------------------------------------------
+
+def still_water(depth, scheme, end, l0=0.01):
+    with mps2p.Scene(l0, scheme=scheme) as scene:
+        water = scene.add_fluid("water", RHO, 1e-6)
+        scene.add_fluid_box(water, 0.0, 0.0, depth + 1e-9, depth + 1e-9)
+        scene.add_tank(0.0, 0.0, depth, depth + 0.1, open_top=True)
+        solver = mps2p.Solver(scene)
+    fluid = solver.kinds() == mps2p.KIND_FLUID
+    r0 = solver.positions()[fluid]
+    bottom_row = r0[:, 1] < r0[:, 1].min() + 0.5 * l0
+    expected = RHO * G * (r0[:, 1].max() - r0[:, 1].min())
+    rows = []
+    for k in range(1, int(round(end / 0.01)) + 1):
+        t = 0.01 * k
+        try:
+            solver.advance_to(t)
+        except mps2p.Error as e:
+            rows.append((t, math.nan, math.nan, math.nan, math.nan))
+            print("  %s, %.2f m: %s" % (scheme, depth, e))
+            break
+        u = solver.velocities()[fluid]
+        r = solver.positions()[fluid]
+        p = solver.pressure()[fluid][bottom_row]
+        rows.append((t, math.sqrt((u ** 2).sum(1).mean()),
+                     math.sqrt(((r - r0) ** 2).sum(1).mean()) / l0, p.mean(), p.std() / p.mean()))
+    a = np.array(rows)
+    after = a[a[:, 0] > 0.5]
+    late = a[a[:, 0] >= 1.0]
+    summary = {"depth": depth, "scheme": scheme, "end": float(a[-1, 0]),
+               "rms_speed_max_after_0.5": float(np.nanmax(after[:, 1])) if len(after) else None,
+               "rms_speed_bar": 0.005 * math.sqrt(G * depth),
+               "displacement_end_l0": float(a[-1, 2]),
+               "bottom_pressure_error": float(np.mean(late[:, 3]) / expected - 1) if len(late) else None,
+               "bottom_spread_max": float(np.nanmax(late[:, 4])) if len(late) else None,
+               "steps": solver.step_count}
+    return rows, summary
+
+
+def run_still(out, quick):
+    end = 2.0 if quick else 10.0
+    summaries, series = [], {}
+    for depth in (0.3, 0.2):
+        for scheme in SCHEMES:
+            print("still water %.1f m, %s, %g s" % (depth, scheme, end))
+            rows, s = still_water(depth, scheme, end)
+            write_csv(os.path.join(out, "still_%g_%s.csv" % (depth, scheme)),
+                      ["t", "rms_speed", "rms_displacement_l0", "bottom_pressure", "bottom_spread"],
+                      rows)
+            series[(depth, scheme)] = np.array(rows)
+            summaries.append(s)
+            print("  " + json.dumps(s))
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
+    for (depth, scheme), a in series.items():
+        style = "-" if scheme == "corrected" else "--"
+        ax[0].semilogy(a[:, 0], a[:, 1], style, label="%s, %.1f m" % (scheme, depth))
+        ax[1].semilogy(a[:, 0], np.maximum(a[:, 2], 1e-4), style, label="%s, %.1f m" % (scheme, depth))
+    for depth in (0.3, 0.2):
+        ax[0].axhline(0.005 * math.sqrt(G * depth), color="grey", lw=0.8, ls=":")
+    ax[0].set_title("Still water: RMS speed of the water\n(dotted: 0.005 sqrt(g H) for each depth)")
+    ax[0].set_xlabel("t (s)")
+    ax[0].set_ylabel("RMS speed (m/s)")
+    ax[1].axhline(0.1, color="grey", lw=0.8, ls=":")
+    ax[1].set_title("RMS displacement from the start\n(dotted: 0.1 l0)")
+    ax[1].set_xlabel("t (s)")
+    ax[1].set_ylabel("RMS displacement (l0)")
+    for a_ in ax:
+        a_.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "still_water.png"), dpi=110)
+    return summaries
+
+
+# ---- dam break ---------------------------------------------------------------
+
+def martin_moyce():
+    rows = []
+    with open(os.path.join(DATA, "martin_moyce_1952.csv")) as f:
+        for line in f:
+            if line[0].isdigit():
+                a, T, Z = map(float, line.split(","))
+                rows.append((a, T, Z))
+    return np.array(rows)
+
+
+def dam_break(scheme, l0=0.01, end=1.0, a=0.15, every=0.005):
+    with mps2p.Scene(l0, scheme=scheme) as scene:
+        water = scene.add_fluid("water", RHO, 1e-6)
+        scene.add_fluid_box(water, 0.0, 0.0, a + 1e-9, 2 * a + 1e-9)
+        scene.add_tank(0.0, 0.0, 0.6, 0.7, open_top=True)
+        solver = mps2p.Solver(scene)
+    fluid = solver.kinds() == mps2p.KIND_FLUID
+    y = solver.positions()[fluid, 1]
+    available = float(RHO * l0 * l0 * G * (y - y.min()).sum())
+    potential0 = solver.stat("potential_energy")
+    worst = [0.0, 0.0]
+
+    def energy(s):
+        excess = (s.stat("kinetic_energy") - (potential0 - s.stat("potential_energy"))) / available
+        if excess > worst[0]:
+            worst[:] = [excess, s.time]
+        return False
+
+    rows = []
+    for k in range(1, int(round(end / every)) + 1):
+        solver.advance_to(k * every, progress=energy)
+        xy = solver.positions()[fluid]
+        rows.append((k * every, solver.front(water, below=0.02), isolated_count(xy, l0)))
+    arr = np.array(rows)
+    T = arr[:, 0] * math.sqrt(2 * G / a)
+    Z = arr[:, 1] / a
+    points = []
+    for series, Tm, Zm in martin_moyce():
+        if Tm <= 2.5:
+            Zs = float(np.interp(Tm, T, Z))
+            points.append({"series_in": series, "T": Tm, "Z_mm": Zm, "Z": Zs, "error": Zs / Zm - 1})
+    n = int(fluid.sum())
+    summary = {"scheme": scheme, "l0": l0, "front": points,
+               "front_error_max": max(abs(p["error"]) for p in points),
+               "isolated_max_fraction": float(arr[:, 2].max() / n),
+               "isolated_max_at": float(arr[int(np.argmax(arr[:, 2])), 0]),
+               "energy_excess_max": worst[0], "steps": solver.step_count}
+    return rows, summary
+
+
+def run_dam(out, quick):
+    summaries, series = [], {}
+    # spacings that divide the 0.15 m column exactly
+    runs = [(s, 0.01) for s in SCHEMES] + [("corrected", 0.015)]
+    if not quick:
+        runs += [("corrected", 0.0075), ("corrected", 0.005)]
+    for scheme, l0 in runs:
+        print("dam break, %s, l0 = %g m" % (scheme, l0))
+        end = 1.0 if l0 >= 0.01 else 0.25
+        rows, s = dam_break(scheme, l0, end)
+        write_csv(os.path.join(out, "dam_%s_%g.csv" % (scheme, l0)),
+                  ["t", "front", "isolated"], rows)
+        series[(scheme, l0)] = np.array(rows)
+        summaries.append(s)
+        print("  front error max %.1f %%, isolated max %.1f %% at %.2f s, energy excess %.4f %%"
+              % (100 * s["front_error_max"], 100 * s["isolated_max_fraction"],
+                 s["isolated_max_at"], 100 * s["energy_excess_max"]))
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
+    mm = martin_moyce()
+    for series_in, marker in ((2.25, "o"), (1.125, "s")):
+        m = mm[(mm[:, 0] == series_in) & (mm[:, 1] <= 3.5)]
+        ax[0].plot(m[:, 1], m[:, 2], "k" + marker, mfc="none",
+                   label="Martin & Moyce, a = %g in" % series_in)
+    a = 0.15
+    for (scheme, l0), arr in series.items():
+        T = arr[:, 0] * math.sqrt(2 * G / a)
+        keep = T <= 3.5
+        ax[0].plot(T[keep], arr[keep, 1] / a, label="%s, l0 = %g m" % (scheme, l0))
+    ax[0].axhline(0.6 / a, color="grey", lw=0.8, ls=":")
+    ax[0].set_xlabel("T = t sqrt(2 g / a)")
+    ax[0].set_ylabel("Z = front / a")
+    ax[0].set_title("Surge front (dotted: the right wall)")
+    ax[0].legend(fontsize=8)
+    for (scheme, l0), arr in series.items():
+        if l0 == 0.01:
+            n = 450
+            ax[1].plot(arr[:, 0], 100 * arr[:, 2] / n, label=scheme)
+    ax[1].axhline(2.0, color="grey", lw=0.8, ls=":")
+    ax[1].set_xlabel("t (s)")
+    ax[1].set_ylabel("isolated particles (% of the water)")
+    ax[1].set_title("No other water particle within 2.1 l0 (l0 = 0.01 m)\n(dotted: 2 %)")
+    ax[1].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "dam_break.png"), dpi=110)
+    return summaries
+
+
+# ---- impact pressure (Buchner 2002) ------------------------------------------
+
+def buchner_reference():
+    out = {"P1": [], "P2": []}
+    with open(os.path.join(DATA, "buchner_2002_dam_break_pressure.csv")) as f:
+        for line in f:
+            if line.startswith("P"):
+                sensor, t, p = line.strip().split(",")
+                out[sensor].append((float(t), float(p)))
+    return {k: np.array(sorted(v)) for k, v in out.items()}
+
+
+def impact(scheme, per_height, H=0.6, end_star=7.0, every_star=0.01):
+    """Buchner's dam break: column H high, 2H wide, tank 5.366 H long. The
+    sensors sit on the right wall at y = 0.16 m and 0.584 m; the probes read
+    them half a spacing inside the water, as the probes average."""
+    l0 = H / per_height
+    length = 5.366 * H
+    with mps2p.Scene(l0, scheme=scheme) as scene:
+        water = scene.add_fluid("water", RHO, 1e-6)
+        scene.add_fluid_box(water, 0.0, 0.0, 2 * H + 1e-9, H + 1e-9)
+        scene.add_tank(0.0, 0.0, length, 3 * H, open_top=True)
+        solver = mps2p.Solver(scene)
+    scale_t, scale_p = math.sqrt(H / G), RHO * G * H
+    points = [[length - 0.5 * l0, 0.16], [length - 0.5 * l0, 0.584]]
+    rows = []
+    for k in range(1, int(round(end_star / every_star)) + 1):
+        try:
+            solver.advance_to(k * every_star * scale_t)
+        except mps2p.Error as e:
+            print("  %s: %s" % (scheme, e))
+            break
+        p = solver.probe(points)[0] / scale_p
+        rows.append((k * every_star, p[0], p[1]))
+    arr = np.array(rows)
+    ref = buchner_reference()["P1"]
+    t, p1 = arr[:, 0], arr[:, 1]
+    window = max(1, int(round(0.1 / every_star)))
+    smooth = np.convolve(p1, np.ones(window) / window, mode="same")
+    span = (t >= 2.0) & (t <= 7.0)
+    above = np.flatnonzero(p1 > 0.1)
+    ref_above = np.flatnonzero(ref[:, 1] > 0.1)
+    inside = span & (t >= ref[0, 0]) & (t <= ref[-1, 0])
+    summary = {"scheme": scheme, "H_over_l0": per_height, "particles": solver.particle_count,
+               "steps": solver.step_count,
+               "impact_t": float(t[above[0]]) if len(above) else None,
+               "impact_t_experiment": float(ref[ref_above[0], 0]),
+               "peak": float(p1.max()), "peak_experiment": float(ref[:, 1].max()),
+               "plateau_3_5": float(p1[(t >= 3) & (t <= 5)].mean()),
+               "plateau_experiment": float(ref[(ref[:, 0] >= 3) & (ref[:, 0] <= 5), 1].mean()),
+               "rms_difference_2_7": float(np.sqrt(np.mean(
+                   (p1[inside] - np.interp(t[inside], ref[:, 0], ref[:, 1])) ** 2))),
+               "noise_2_7": float(np.sqrt(np.mean((p1 - smooth)[span] ** 2)))}
+    return rows, summary
+
+
+def run_buchner(out, quick):
+    summaries, series = [], {}
+    runs = [(s, 40) for s in SCHEMES] + ([] if quick else [("corrected", 80)])
+    for scheme, per_height in runs:
+        print("impact pressure, %s, H/l0 = %d" % (scheme, per_height))
+        rows, s = impact(scheme, per_height)
+        write_csv(os.path.join(out, "buchner_%s_%d.csv" % (scheme, per_height)),
+                  ["t_star", "p1_star", "p2_star"], rows)
+        series[(scheme, per_height)] = np.array(rows)
+        summaries.append(s)
+        print("  " + json.dumps(s))
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    ref = buchner_reference()
+    fig, ax = plt.subplots(2, 1, figsize=(10, 7), sharex=True)
+    for k, sensor in enumerate(("P1", "P2")):
+        for (scheme, per_height), arr in series.items():
+            ax[k].plot(arr[:, 0], arr[:, 1 + k], lw=0.7, label="%s, H/l0 = %d" % (scheme, per_height))
+        ax[k].plot(ref[sensor][:, 0], ref[sensor][:, 1], "ko", ms=3, label="Buchner (2002)")
+        ax[k].set_ylabel("%s: p / (rho g H)" % sensor)
+        ax[k].set_ylim(-0.1, 1.6)
+        ax[k].legend(fontsize=8, loc="upper left")
+    ax[0].set_title("Impact pressure on the right wall (P1 at y = 0.16 m, P2 at 0.584 m)")
+    ax[1].set_xlabel("t sqrt(g / H)")
+    ax[1].set_xlim(1.5, 7.0)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "buchner.png"), dpi=110)
+    return summaries
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("case", choices=("still", "dam", "buchner", "all"))
+    parser.add_argument("--quick", action="store_true", help="shorter runs (see the module help)")
+    parser.add_argument("--out", default=os.path.join("out", "validation"),
+                        help="folder for the CSV, JSON and PNG files")
+    args = parser.parse_args(argv)
+    os.makedirs(args.out, exist_ok=True)
+    cases = ("still", "dam", "buchner") if args.case == "all" else (args.case,)
+    runners = {"still": run_still, "dam": run_dam, "buchner": run_buchner}
+    for case in cases:
+        summary = runners[case](args.out, args.quick)
+        with open(os.path.join(args.out, case + ".json"), "w") as f:
+            json.dump(summary, f, indent=1)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
