@@ -31,14 +31,15 @@ def encode(text, what):
 
 
 def encode_path(path, what="path"):
-    """A file path (str, bytes or os.PathLike) as C bytes."""
-    if isinstance(path, (str, bytes, os.PathLike)):
-        path = os.fspath(path)
-        text = os.fsdecode(path) if isinstance(path, bytes) else path
-        if not text:
-            raise ValueError("%s must not be empty" % what)
-        return encode(text, what)
-    raise TypeError("%s must be a str or os.PathLike, got %s" % (what, type(path).__name__))
+    """A file path (str, bytes or os.PathLike) as the bytes the OS uses."""
+    if not isinstance(path, (str, bytes, os.PathLike)):
+        raise TypeError("%s must be a str or os.PathLike, got %s" % (what, type(path).__name__))
+    raw = os.fsencode(path)
+    if not raw:
+        raise ValueError("%s must not be empty" % what)
+    if b"\0" in raw:
+        raise ValueError("%s must not contain NUL characters" % what)
+    return raw
 
 
 def real(value, what):

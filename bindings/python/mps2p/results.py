@@ -1,6 +1,8 @@
 """Results files (HDF5 + XDMF sidecar): written by the C library, so C and
 Python users get the same files, and read back with open_results(). The
 layout is in docs/results-files.md."""
+import os
+
 import numpy as np
 
 from ._core import check, encode, encode_path, real
@@ -18,7 +20,7 @@ class Results:
         c_path = encode_path(path)
         check(lib.mps2p_results_create(c_path, solver.handle, text, handle))
         self._handle = handle[0]
-        self.path = c_path.decode("utf-8")
+        self.path = os.fsdecode(c_path)
 
     def write_snapshot(self, solver):
         """Appends the solver's current state as /snapshots/NNNNNN (flushed to
@@ -95,7 +97,7 @@ class ResultsFile:
 
     def __init__(self, path):
         import h5py
-        path = encode_path(path).decode("utf-8")
+        path = os.fsdecode(encode_path(path))
         self.path = path
         self._file = h5py.File(path, "r")
         try:
