@@ -86,7 +86,7 @@ def test_paraview_renders_the_points(results, tmp_path):
 
 
 def test_meshio_reads_the_time_series(results):
-    meshio = pytest.importorskip("meshio", reason="meshio is installed by install-deps.sh")
+    import meshio  # installed by scripts/install-deps.sh
     with meshio.xdmf.TimeSeriesReader(str(results / "results.xdmf")) as reader:
         points, cells = reader.read_points_cells()
         assert points.shape == (PARTICLES, 2)
