@@ -58,6 +58,24 @@ static int make_group(h5_context *ctx, hid_t file, const char *name)
     return 0;
 }
 
+/* /vertices (n, 1) = 0, 1, ..., n-1: the particles as the one-node cells of
+ * the XDMF Polyvertex topology. ParaView's Xdmf3 readers and meshio make cells only
+ * from a topology's connectivity array; without one they show no cells. */
+static int write_vertices(h5_context *ctx, hid_t file, size_t count)
+{
+    int *index = malloc((count ? count : 1) * sizeof *index);
+    if (!index) {
+        h5_note_text(ctx, "out of memory for %zu vertex indices", count);
+        return -1;
+    }
+    for (size_t i = 0; i < count; i++)
+        index[i] = (int)i;
+    hsize_t dims[2] = {count, 1};
+    int status = h5_write_dataset(ctx, file, "vertices", H5T_NATIVE_INT, 2, dims, index);
+    free(index);
+    return status;
+}
+
 static int write_metadata(h5_context *ctx, hid_t file, const mps2p_solver *s,
                           const char *scene_text)
 {
@@ -85,6 +103,8 @@ static int write_metadata(h5_context *ctx, hid_t file, const mps2p_solver *s,
         status = h5_write_fluids(ctx, file, s);
     if (status == 0 && scene_text)
         status = h5_write_string_dataset(ctx, file, "scene_text", scene_text);
+    if (status == 0)
+        status = write_vertices(ctx, file, s->count);
     if (status == 0)
         status = make_group(ctx, file, "snapshots");
     if (status == 0)

@@ -57,8 +57,14 @@ static void put_document(FILE *out, const char *h5_name, size_t count, const dou
         size_t n = particles[k];
         fprintf(out, "      <Grid Name=\"snapshot_%06zu\" GridType=\"Uniform\">\n", k);
         fprintf(out, "        <Time Value=\"%.17g\"/>\n", times[k]);
+        /* Each particle a vertex cell, listed by /vertices: the Xdmf3 readers
+         * and meshio make no cells from a topology without its connectivity. */
         fprintf(out, "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%zu\" "
-                     "NodesPerElement=\"1\"/>\n", n);
+                     "NodesPerElement=\"1\">\n", n);
+        fprintf(out, "          <DataItem Dimensions=\"%zu 1\" NumberType=\"Int\" Precision=\"4\" "
+                     "Format=\"HDF\">", n);
+        put_escaped(out, h5_name);
+        fputs(":/vertices</DataItem>\n        </Topology>\n", out);
         fputs("        <Geometry GeometryType=\"XY\">\n", out);
         put_item(out, h5_name, k, "position", n, 1, 0);
         fputs("        </Geometry>\n", out);

@@ -12,4 +12,3 @@ export MPS2P_LIBRARY="$PWD/build-release/lib/libmps2p.so.0"
 export PYTHONPATH="$PWD/bindings/python${PYTHONPATH:+:$PYTHONPATH}"
 out=out/dam_break
 python3 -m mps2p run examples/scenes/dam_break.toml --out "$out"
-python3 examples/plot_dam_break.py "$out"

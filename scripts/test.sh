@@ -3,7 +3,10 @@
 # UndefinedBehaviorSanitizer, then the installed library as an outside
 # program sees it (pkg-config, exported symbols) and the Python binding's
 # tests against that installed library. Issue 7's reliability checks
-# (scripts/test-reliability.sh) run in between.
+# (scripts/test-reliability.sh) run in between. The pytest suite also
+# installs the self-contained package into a fresh venv (pip install .,
+# test_package.py) and opens results with ParaView and meshio
+# (test_paraview.py).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh

@@ -4,6 +4,9 @@ import os
 import subprocess
 import sys
 
+import numpy as np
+import pytest
+
 from conftest import PACKAGE_DIR, SCENES
 
 
@@ -61,3 +64,132 @@ def test_a_bad_scene_is_one_clear_line_and_exit_2(tmp_path):
     result = mps2p("check", str(bad))
     assert result.returncode == 2
     assert result.stderr.strip() == "mps2p: %s: run.end_time: missing" % bad
+
+
+# -- issue 19: examples by name, --version, help --------------------------------
+
+def test_examples_are_listed_and_run_by_name(tmp_path):
+    listed = mps2p("examples")
+    assert listed.returncode == 0, listed.stderr
+    names = [line.split()[0] for line in listed.stdout.splitlines() if line.strip()][:-1]
+    assert "dam_break" in names and "hydrostatic" in names
+    assert sorted(names) == sorted(f[:-5] for f in os.listdir(SCENES) if f.endswith(".toml"))
+    assert "water column 0.15 m x 0.3 m" in listed.stdout
+    # by name, from a folder that holds no scene files
+    result = mps2p("run", "dam_break", "--until", "0.01", "--out", str(tmp_path / "o"),
+                   "--no-pictures", "--quiet", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert (tmp_path / "o" / "results.h5").exists()
+    described = json.loads(mps2p("check", "hydrostatic", cwd=tmp_path).stdout)
+    assert described["name"] == "hydrostatic"
+    unknown = mps2p("run", "no_such_scene", cwd=tmp_path)
+    assert unknown.returncode == 2 and unknown.stderr.count("\n") == 1
+    assert "no_such_scene" in unknown.stderr
+
+
+def test_version():
+    result = mps2p("--version")
+    assert result.returncode == 0, result.stderr
+    import mps2p as package
+    assert result.stdout.startswith("mps2p ") and "libmps2p %s" % package.__version__ in \
+        result.stdout and result.stdout.count("\n") == 1
+
+
+def test_every_argument_has_help():
+    import argparse
+
+    from mps2p.cli import parser
+    top = parser()
+    subcommands = [a for a in top._actions if isinstance(a, argparse._SubParsersAction)][0]
+    helped = {c.dest: c.help for c in subcommands._choices_actions}
+    assert set(helped) == set(subcommands.choices) and all(helped.values()), helped
+    for name, sub in [("mps2p", top)] + list(subcommands.choices.items()):
+        for action in sub._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                continue
+            assert action.help and action.help.strip(), "%s %s has no help" % (
+                name, action.option_strings or action.dest)
+
+
+# -- issue 20: one line on stderr, exit 2, nothing written ------------------------
+
+def dam_break_text():
+    return open(os.path.join(SCENES, "dam_break.toml")).read()
+
+
+def expect_bad_input(result, *words):
+    assert result.returncode == 2, (result.returncode, result.stderr)
+    assert result.stderr.count("\n") == 1 and result.stderr.startswith("mps2p: "), result.stderr
+    assert "Traceback" not in result.stderr
+    for word in words:
+        assert word in result.stderr, (word, result.stderr)
+
+
+@pytest.mark.parametrize("name, words", [
+    ('"../../x"', "run.name"), ('""', "run.name"), ('"."', "run.name"),
+    ('"a/b"', "run.name"), ('"%s"' % ("n" * 5000), "5000 characters"),
+])
+def test_a_run_name_must_be_one_safe_folder_name(tmp_path, name, words):
+    scene = tmp_path / "work" / "scene.toml"
+    scene.parent.mkdir()
+    scene.write_text(dam_break_text().replace('name = "dam_break"', "name = %s" % name))
+    result = mps2p("run", str(scene), "--until", "0.01", "--no-pictures", "--quiet",
+                   cwd=scene.parent)
+    expect_bad_input(result, words)
+    assert sorted(os.listdir(tmp_path)) == ["work"]
+    assert os.listdir(scene.parent) == ["scene.toml"]  # no out/ at all
+
+
+def test_a_deeply_nested_array_is_bad_input(tmp_path):
+    scene = tmp_path / "deep.toml"
+    scene.write_text(dam_break_text() + "\n[parameters]\nx = " + "[" * 2000 + "]" * 2000 + "\n")
+    expect_bad_input(mps2p("check", str(scene)), "nested too deep")
+    expect_bad_input(mps2p("run", str(scene), "--out", str(tmp_path / "o")), "nested")
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("arrays, words", [
+    ({"positions": np.zeros((4, 3)), "kinds": np.zeros(4, dtype=int)}, "shape (n, 2)"),
+    ({"positions": np.zeros((4, 2)), "kinds": np.zeros(5, dtype=int)}, "kinds must have shape"),
+    ({"positions": np.zeros((4, 2)), "kinds": np.zeros(4)}, "kinds must hold integers"),
+    ({"positions": np.zeros((4, 2)), "kinds": np.zeros(4, dtype=int),
+      "fluid_ids": np.full(4, 2 ** 32)}, "out of range for a C int"),
+    ({"positions": np.full((4, 2), "a"), "kinds": np.zeros(4, dtype=int)}, "real numbers"),
+])
+def test_particle_files_of_the_wrong_shape_or_kind_are_bad_input(tmp_path, arrays, words):
+    np.savez(tmp_path / "p.npz", **arrays)
+    scene = tmp_path / "p.toml"
+    scene.write_text(dam_break_text() + '\n[[particles]]\nfile = "p.npz"\n')
+    expect_bad_input(mps2p("run", str(scene), "--out", str(tmp_path / "o"), "--quiet"),
+                     "particles[0]", words)
+    assert not (tmp_path / "o").exists()
+
+
+def test_an_output_folder_that_cannot_be_made_is_bad_input(tmp_path):
+    scene = os.path.join(SCENES, "dam_break.toml")
+    in_the_way = tmp_path / "a_file"
+    in_the_way.write_text("")
+    for out, words in ((in_the_way, "a file of that name is in the way"),
+                       (in_the_way / "sub", "Not a directory"),
+                       ("/proc/mps2p-out", "cannot create it")):
+        expect_bad_input(mps2p("run", scene, "--out", str(out), "--until", "0.01", "--quiet"),
+                         "output folder", words)
+    assert os.listdir(tmp_path) == ["a_file"] and in_the_way.read_text() == ""
+
+
+@pytest.mark.parametrize("key", ["series_every", "snapshot_every"])
+def test_a_schedule_too_fine_to_keep_is_refused(tmp_path, key):
+    text = dam_break_text()
+    text = text.replace("series_every = 0.005", "") .replace("snapshot_every = 0.05", "")
+    scene = tmp_path / "fine.toml"
+    scene.write_text(text.replace("[run]\n", "[run]\n%s = 1e-300\n" % key))
+    expect_bad_input(mps2p("run", str(scene), "--out", str(tmp_path / "o")), "run." + key,
+                     "1e-300")
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("until", ["inf", "nan", "-1", "soon"])
+def test_a_bad_until_is_bad_input(until):
+    result = mps2p("run", "dam_break", "--until", until)
+    assert result.returncode == 2 and "--until" in result.stderr and "Traceback" not in \
+        result.stderr

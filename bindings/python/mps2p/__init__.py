@@ -1,6 +1,7 @@
 """libmps2p from Python: a thin cffi binding over the C library's public
-header. The numerics are all in C; this package converts arguments, turns
-status codes into exceptions and returns fields as numpy arrays (copies).
+header. The numerics are all in C; this package converts and checks
+arguments, turns status codes into exceptions and returns fields as numpy
+arrays (copies).
 
     import mps2p
     with mps2p.Scene(0.01) as scene:
@@ -11,20 +12,24 @@ status codes into exceptions and returns fields as numpy arrays (copies).
     solver.advance_to(0.3)
     xy = solver.positions()            # (n, 2) numpy array, a copy
 """
-from . import errors
+from . import errors, examples, results
 from ._core import version as _version
 from ._native import header_path, library_path
 from .errors import (BufferError_, DivergedError, Error, FileError, InvalidArgumentError,
-                     NullArgumentError, OutOfMemoryError, SceneFileError, SolveError,
-                     StateError, UnknownKeyError)
+                     NullArgumentError, OutOfMemoryError, SceneFileError, SnapWarning,
+                     SolveError, StateError, UnknownKeyError)
+from .examples import example_names, example_path
+from .results import Results, ResultsFile, open_results
 from .scene import KIND_DUMMY, KIND_FLUID, KIND_WALL, Scene, param_info
-from .solver import STAT_KEYS, Solver
+from .solver import COUNT_STATS, STAT_KEYS, Solver, State
 
 __version__ = _version()
 
 __all__ = [
-    "Scene", "Solver", "param_info", "STAT_KEYS", "KIND_FLUID", "KIND_WALL", "KIND_DUMMY",
-    "Error", "NullArgumentError", "InvalidArgumentError", "UnknownKeyError",
+    "Scene", "Solver", "State", "param_info", "STAT_KEYS", "COUNT_STATS", "KIND_FLUID",
+    "KIND_WALL", "KIND_DUMMY", "Results", "ResultsFile", "open_results", "example_names",
+    "example_path", "Error", "NullArgumentError", "InvalidArgumentError", "UnknownKeyError",
     "OutOfMemoryError", "StateError", "BufferError_", "SolveError", "DivergedError",
-    "FileError", "SceneFileError", "errors", "library_path", "header_path", "__version__",
+    "FileError", "SceneFileError", "SnapWarning", "errors", "examples", "results",
+    "library_path", "header_path", "__version__",
 ]

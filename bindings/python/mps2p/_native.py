@@ -1,14 +1,20 @@
 """Loads libmps2p with cffi (ABI mode) and declares its public header.
 
-The declarations are read from the installed `mps2p.h` itself, so the binding
-follows the header it is paired with and cannot drift from it by hand.
+The declarations are read from the `mps2p.h` paired with the library, so the
+binding follows the header it is paired with and cannot drift from it by hand.
 
-Where the library and header are looked for, in order:
-  1. MPS2P_LIBRARY / MPS2P_HEADER (paths), for a build tree or an unusual install;
-  2. pkg-config's libdir and includedir for `mps2p`;
-  3. the system's search path (libmps2p.so.0) and, for the header, this source
-     tree's include/ when the package runs from a checkout.
+Where the library is looked for, in order:
+  1. MPS2P_LIBRARY (a path), for a build tree or an unusual install;
+  2. beside this module: the self-contained package (`pip install .` at the
+     checkout's root) carries libmps2p.so.0 and mps2p.h in mps2p/;
+  3. pkg-config's libdir for `mps2p` (a `meson install`ed library);
+  4. the dynamic loader's search path (libmps2p.so.0).
+The header: MPS2P_HEADER, else the one that belongs to the library found
+(beside it; its prefix's include/; for a library in a Meson build tree, that
+tree's source include/), else pkg-config's includedir, else this checkout's
+include/ when the package runs from a checkout.
 """
+import json
 import os
 import re
 import shutil
@@ -17,8 +23,13 @@ import subprocess
 import cffi
 
 SONAME = "libmps2p.so.0"
+HEADER = "mps2p.h"
 _HERE = os.path.dirname(os.path.abspath(__file__))
-_CHECKOUT_HEADER = os.path.normpath(os.path.join(_HERE, "..", "..", "..", "include", "mps2p.h"))
+_CHECKOUT_HEADER = os.path.normpath(os.path.join(_HERE, "..", "..", "..", "include", HEADER))
+HOW_TO_INSTALL = (
+    "install the self-contained package from the checkout's root (pip install .), "
+    "or `meson install` the library and put its lib/pkgconfig folder on PKG_CONFIG_PATH, "
+    "or set MPS2P_LIBRARY and MPS2P_HEADER (docs/python.md)")
 
 
 def cdef_from_header(text):
@@ -54,45 +65,76 @@ def _pkg_config(variable):
 
 
 def find_library():
+    """The library's path, or its soname for the loader to search."""
     path = os.environ.get("MPS2P_LIBRARY")
     if path:
         if not os.path.exists(path):
             raise ImportError("MPS2P_LIBRARY=%s: no such file" % path)
         return path
+    bundled = os.path.join(_HERE, SONAME)
+    if os.path.exists(bundled):
+        return bundled
     libdir = _pkg_config("libdir")
     if libdir and os.path.exists(os.path.join(libdir, SONAME)):
         return os.path.join(libdir, SONAME)
-    return SONAME  # the dynamic loader's search path
+    return SONAME
 
 
-def find_header():
+def _headers_beside(library_path):
+    """Where the header of this library would be: beside it, in its prefix
+    (lib/ or lib/<triplet>/ next to include/), or, in a Meson build tree, in
+    the source tree the build was made from."""
+    if os.sep not in library_path:
+        return []
+    folder = os.path.dirname(os.path.realpath(library_path))
+    candidates = [os.path.join(folder, HEADER)]
+    for up in (os.pardir, os.path.join(os.pardir, os.pardir)):
+        candidates.append(os.path.normpath(os.path.join(folder, up, "include", HEADER)))
+    probe = folder
+    for _ in range(4):
+        info = os.path.join(probe, "meson-info", "meson-info.json")
+        if os.path.exists(info):
+            try:
+                with open(info) as f:
+                    source = json.load(f)["directories"]["source"]
+                candidates.append(os.path.join(source, "include", HEADER))
+            except (OSError, ValueError, KeyError, TypeError):
+                pass
+            break
+        probe = os.path.dirname(probe)
+    return candidates
+
+
+def find_header(library_path):
     path = os.environ.get("MPS2P_HEADER")
     if path:
         if not os.path.exists(path):
             raise ImportError("MPS2P_HEADER=%s: no such file" % path)
         return path
+    candidates = _headers_beside(library_path)
     includedir = _pkg_config("includedir")
-    if includedir and os.path.exists(os.path.join(includedir, "mps2p.h")):
-        return os.path.join(includedir, "mps2p.h")
-    if os.path.exists(_CHECKOUT_HEADER):
-        return _CHECKOUT_HEADER
-    raise ImportError("mps2p.h not found: install libmps2p (pkg-config mps2p) "
-                      "or set MPS2P_HEADER")
+    if includedir:
+        candidates.append(os.path.join(includedir, HEADER))
+    candidates.append(_CHECKOUT_HEADER)
+    for candidate in candidates:
+        if os.path.exists(candidate):
+            return candidate
+    raise ImportError("libmps2p not found (no mps2p.h beside %s, through pkg-config or in a "
+                      "checkout): %s" % (library_path, HOW_TO_INSTALL))
 
 
 def load():
     """(ffi, lib, library_path, header_path)."""
-    header_path = find_header()
+    library_path = find_library()
+    header_path = find_header(library_path)
     with open(header_path) as f:
         header = f.read()
     ffi = cffi.FFI()
     ffi.cdef(cdef_from_header(header))
-    library_path = find_library()
     try:
         lib = ffi.dlopen(library_path)
     except OSError as e:
-        raise ImportError("cannot load %s: %s (set MPS2P_LIBRARY to the library's path)"
-                          % (library_path, e)) from e
+        raise ImportError("cannot load %s: %s; %s" % (library_path, e, HOW_TO_INSTALL)) from e
     major, minor, _ = header_version(header)
     loaded = lib.mps2p_version_number()
     if loaded // 10000 != major or (loaded // 100) % 100 < minor:

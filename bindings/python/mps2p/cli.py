@@ -1,56 +1,126 @@
 """The `mps2p` command.
 
-    mps2p run SCENE.toml [--until T] [--out DIR] [--no-pictures] [--quiet]
-    mps2p info [SCENE.toml]   # without a scene: library version, path, parameters;
+    mps2p run SCENE [--until T] [--out DIR] [--no-pictures] [--quiet]
+    mps2p examples            # the example scenes shipped in the package
+    mps2p info [SCENE]        # without a scene: library version, path, parameters;
                               # with one: particles, fluids, effects, dt, without running
-    mps2p check SCENE.toml    # read, check and build the scene; print it as JSON
+    mps2p check SCENE         # read, check and build the scene; print it as JSON
     mps2p study [--quick] [--out DIR]   # the accuracy-cost study
-    mps2p stability SCENE.toml [--until T] [--l0 L] [--model M] [--out FILE.json]
+    mps2p stability SCENE [--until T] [--l0 L] [--model M] [--out FILE.json]
                               # run with the hard-case checks after every step
+    mps2p --version
 
+SCENE is a scene file (TOML) or the name of an example scene (`mps2p examples`).
 Exit status: 0 done, 1 the run diverged or its pressure solve failed (stability: or
-a check failed), 2 bad input.
+a check failed), 2 bad input (one line on stderr, nothing written), 130 interrupted.
 """
 import argparse
 import json
+import math
 import sys
+import warnings
 
 from . import errors
 
+SCENE_HELP = "a scene file (.toml, docs/scene-files.md) or an example's name (mps2p examples)"
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(prog="mps2p", description="libmps2p: MPS particle runs")
-    commands = parser.add_subparsers(dest="command", required=True)
-    run_parser = commands.add_parser("run", help="run a scene file")
-    run_parser.add_argument("scene")
-    run_parser.add_argument("--out", default=None, help="output folder (default out/<name>)")
-    run_parser.add_argument("--until", type=float, default=None,
+
+def _time(text):
+    """argparse type: a finite time > 0 in seconds."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError("not a number: %r" % text) from None
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError("must be > 0 and finite, got %r" % text)
+    return value
+
+
+def parser():
+    """The command's argument parser (every argument has its help)."""
+    top = argparse.ArgumentParser(
+        prog="mps2p", description="libmps2p: MPS particle runs from scene files",
+        epilog="exit status: 0 done, 1 the run diverged or its solve failed, 2 bad input")
+    top.add_argument("--version", action=_VersionAction,
+                     help="print the versions of the package and the library, and exit")
+    commands = top.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    run_parser = commands.add_parser(
+        "run", help="run a scene: results.h5 (+ .xdmf for ParaView), series.csv, "
+                    "summary.json, pictures")
+    run_parser.add_argument("scene", metavar="SCENE", help=SCENE_HELP)
+    run_parser.add_argument("--out", metavar="DIR", default=None,
+                            help="output folder (default out/<the scene's name>)")
+    run_parser.add_argument("--until", metavar="T", type=_time, default=None,
                             help="stop at this time (s) instead of the scene's end_time")
-    run_parser.add_argument("--no-pictures", action="store_true")
+    run_parser.add_argument("--no-pictures", action="store_true",
+                            help="write no PNG pictures (faster; no matplotlib needed)")
     run_parser.add_argument("--quiet", action="store_true", help="no progress bar")
-    info_parser = commands.add_parser("info", help="the library, or a scene without running it")
-    info_parser.add_argument("scene", nargs="?")
-    check_parser = commands.add_parser("check", help="check a scene file and build it")
-    check_parser.add_argument("scene")
-    study_parser = commands.add_parser("study", help="the accuracy-cost study")
+    commands.add_parser("examples", help="list the example scenes shipped in the package")
+    info_parser = commands.add_parser(
+        "info", help="the library (version, paths, parameters), or a scene without running it")
+    info_parser.add_argument("scene", metavar="SCENE", nargs="?",
+                             help=SCENE_HELP + "; without it, the library")
+    check_parser = commands.add_parser("check", help="check a scene and build it; print it "
+                                                     "as JSON")
+    check_parser.add_argument("scene", metavar="SCENE", help=SCENE_HELP)
+    study_parser = commands.add_parser("study", help="the accuracy-cost study "
+                                                     "(docs/accuracy-cost.md)")
     study_parser.add_argument("--quick", action="store_true",
-                              help="two spacings and few variants (for CI)")
-    study_parser.add_argument("--out", default="out/study")
+                              help="two spacings and few variants (minutes, for CI)")
+    study_parser.add_argument("--out", metavar="DIR", default="out/study",
+                              help="output folder (default out/study)")
     stability_parser = commands.add_parser(
         "stability", help="run a scene with the hard-case checks after every step")
-    stability_parser.add_argument("scene")
-    stability_parser.add_argument("--until", type=float, default=None)
-    stability_parser.add_argument("--l0", type=float, default=None,
+    stability_parser.add_argument("scene", metavar="SCENE", help=SCENE_HELP)
+    stability_parser.add_argument("--until", metavar="T", type=_time, default=None,
+                                  help="stop at this time (s) instead of the scene's end_time")
+    stability_parser.add_argument("--l0", metavar="L", type=_time, default=None,
                                   help="another particle spacing (m)")
-    stability_parser.add_argument("--model", default=None,
+    stability_parser.add_argument("--model", metavar="M", default=None,
                                   help="two_phase_model: two_step or two_step_improved")
-    stability_parser.add_argument("--out", default=None, help="write the report (JSON) here")
-    args = parser.parse_args(argv)
+    stability_parser.add_argument("--out", metavar="FILE", default=None,
+                                  help="write the report (JSON) to this file")
+    return top
+
+
+class _VersionAction(argparse.Action):
+    """--version: one unwrapped line (argparse's own action wraps it)."""
+
+    def __init__(self, option_strings, dest, help=None):
+        super().__init__(option_strings, dest, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(_version_line())
+        parser.exit()
+
+
+def _version_line():
+    import mps2p
+    try:
+        from importlib.metadata import PackageNotFoundError, version
+        package = version("mps2p")
+    except (ImportError, PackageNotFoundError):
+        package = "(not installed: from %s)" % mps2p.__path__[0]
+    return "mps2p %s, libmps2p %s at %s" % (package, mps2p.__version__, mps2p.library_path)
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    print("mps2p: warning: %s" % message, file=sys.stderr)
+
+
+def main(argv=None):
+    args = parser().parse_args(argv)
+    warnings.showwarning = _show_warning
+    if getattr(args, "scene", None):
+        from .examples import resolve_scene
+        args.scene = resolve_scene(args.scene)
     try:
         if args.command == "run":
             return _run(args)
         if args.command == "check":
             return _check(args)
+        if args.command == "examples":
+            return _examples()
         if args.command == "study":
             from .study import study
             study(args.out, quick=args.quick)
@@ -62,6 +132,24 @@ def main(argv=None):
     except errors.Error as e:
         print("mps2p: %s" % e, file=sys.stderr)
         return 2
+    except OSError as e:  # a file the command writes itself
+        print("mps2p: %s%s" % (e.strerror or e, ": %s" % e.filename if e.filename else ""),
+              file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("mps2p: interrupted", file=sys.stderr)
+        return 130
+
+
+def _examples():
+    from .examples import SCENES, example_names, example_path
+    from .scenefile import load
+    for name in example_names():
+        scene_file = load(example_path(name))
+        print("%-26s %s" % (name, scene_file.data["run"].get("description", "")))
+    print("\nrun one with: mps2p run NAME (e.g. mps2p run dam_break); the files are in %s"
+          % SCENES)
+    return 0
 
 
 def _run(args):

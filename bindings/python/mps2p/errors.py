@@ -57,6 +57,11 @@ class SceneFileError(Error, ValueError):
     """A scene file is wrong: the message names the file, the key and the reason."""
 
 
+class SnapWarning(UserWarning):
+    """A box side is not a whole number of l0: the C library fills it with
+    whole l0 x l0 cells, so the box holds less than asked (rounded down)."""
+
+
 BY_STATUS = {
     -1: NullArgumentError,
     -2: InvalidArgumentError,

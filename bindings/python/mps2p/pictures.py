@@ -1,6 +1,9 @@
 """Pictures of a run (matplotlib, drawn from arrays the solver returned):
-axes in metres, equal aspect, time in each title, a colour bar or legend."""
+axes in metres with units, equal aspect, the time in each panel's title, a
+title that fits the figure, a colour bar or legend, and each fluid told
+apart from the others in every snapshot."""
 import os
+import textwrap
 
 import matplotlib
 
@@ -11,41 +14,91 @@ import numpy as np  # noqa: E402
 REFERENCE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data",
                          "martin_moyce_1952.csv")
 PHASE_COLOURS = ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple"]
+# Pressure colour maps by fluid id: the heaviest fluid first, so that water
+# and air never share a colour scale.
+PRESSURE_MAPS = ["viridis", "autumn", "cool", "spring", "winter"]
+# Units of the solver's statistics (include/mps2p.h), for probe axes.
+STAT_UNITS = {
+    "max_speed": "m/s", "kinetic_energy": "J/m", "potential_energy": "J/m",
+    "pressure_min": "Pa", "pressure_max": "Pa", "ppe_residual": "relative",
+    "n0": "dimensionless", "lambda": "m^2", "dt_next": "s", "eddy_viscosity_max": "m^2/s",
+    "memory_bytes": "bytes", "closest_pair": "l0", "gas_pressure_max": "Pa",
+    "two_phase_active": "0 or 1", "ppe_unknowns": "unknowns", "gas_ppe_unknowns": "unknowns",
+    "ppe_iterations": "iterations", "ppe_iterations_total": "iterations",
+    "gas_ppe_iterations": "iterations", "neighbour_builds": "builds",
+    "ppe_analyses": "analyses", "diverged_particle": "index",
+}
+TITLE_SIZE = 11
+
+
+def fit_title(text, width_inches, fontsize=TITLE_SIZE):
+    """The text wrapped to lines that fit width_inches at fontsize points
+    (an average glyph is about 0.55 em wide)."""
+    columns = max(24, int(width_inches * 72 / (0.55 * fontsize)))
+    return "\n".join(textwrap.fill(line, columns) for line in text.split("\n"))
+
+
+def _suptitle(fig, text):
+    fig.suptitle(fit_title(text, fig.get_figwidth() * 0.95), fontsize=TITLE_SIZE)
+
+
+def _frame(ax, lo, hi, pad, t):
+    ax.set_aspect("equal")
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    ax.set_title("t = %.3f s" % t, fontsize=10)
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+
+
+def _walls(ax, xy, kinds):
+    solid = kinds != 0
+    return ax.scatter(xy[solid, 0], xy[solid, 1], s=1.5, c="0.6", label="walls")
 
 
 def snapshots_picture(path, snapshots, title, fluid_names, by="pressure"):
-    """Particles of up to six snapshots: fluid coloured by pressure, or by phase."""
+    """Particles of the picture snapshots: each fluid coloured by its
+    pressure on its own colour scale (by="pressure"), or each fluid in its
+    own colour (by="phase"). Walls grey."""
     if not snapshots:
         return
     fig, axes, lo, hi, pad = _panels(snapshots)
-    fluid = [snap["kinds"] == 0 for snap in snapshots]
-    pmax = max(float(np.percentile(snap["pressure"][f], 99)) if np.any(f) else 0.0
-               for snap, f in zip(snapshots, fluid)) or 1.0
-    scatter = None
-    for ax, snap, is_fluid in zip(axes.flat, snapshots, fluid):
-        t, xy, p, ids = snap["time"], snap["positions"], snap["pressure"], snap["fluid_ids"]
-        ax.scatter(xy[~is_fluid, 0], xy[~is_fluid, 1], s=1.5, c="0.6", label="walls")
-        if by == "pressure":
-            scatter = ax.scatter(xy[is_fluid, 0], xy[is_fluid, 1], s=3, c=p[is_fluid],
-                                 cmap="viridis", vmin=0, vmax=pmax)
-        else:
-            for k, name in enumerate(fluid_names):
-                mine = is_fluid & (ids == k)
-                ax.scatter(xy[mine, 0], xy[mine, 1], s=3, label=name,
+    count = len(fluid_names)
+    scales = []  # per fluid: upper pressure bound of its colour scale
+    for k in range(count):
+        highs = [float(np.percentile(s["pressure"][(s["kinds"] == 0) & (s["fluid_ids"] == k)],
+                                     99))
+                 for s in snapshots if np.any((s["kinds"] == 0) & (s["fluid_ids"] == k))]
+        scales.append(max(highs) if highs and max(highs) > 0 else 1.0)
+    mappables = [None] * count
+    for ax, snap in zip(axes.flat, snapshots):
+        xy, p, kinds, ids = snap["positions"], snap["pressure"], snap["kinds"], snap["fluid_ids"]
+        _walls(ax, xy, kinds)
+        for k, name in enumerate(fluid_names):
+            mine = (kinds == 0) & (ids == k)
+            # the first (heaviest in the examples) fluid as dots, the others as rings
+            marker = "o" if k == 0 else "$\\circ$"
+            if by == "pressure":
+                mappables[k] = ax.scatter(xy[mine, 0], xy[mine, 1], s=4 if k == 0 else 9,
+                                          c=p[mine], cmap=PRESSURE_MAPS[k % len(PRESSURE_MAPS)],
+                                          vmin=0, vmax=scales[k], marker=marker,
+                                          linewidths=0, label=name)
+            else:
+                ax.scatter(xy[mine, 0], xy[mine, 1], s=4, label=name,
                            c=PHASE_COLOURS[k % len(PHASE_COLOURS)])
-        ax.set_aspect("equal")
-        ax.set_xlim(lo[0] - pad, hi[0] + pad)
-        ax.set_ylim(lo[1] - pad, hi[1] + pad)
-        ax.set_title("t = %.3f s" % t)
-        ax.set_xlabel("x (m)")
-        ax.set_ylabel("y (m)")
+        _frame(ax, lo, hi, pad, snap["time"])
     for ax in axes.flat[len(snapshots):]:
         ax.axis("off")
     if by == "pressure":
-        fig.colorbar(scatter, ax=axes, label="pressure (Pa)", shrink=0.9)
+        for k, name in enumerate(fluid_names):
+            if mappables[k] is not None:
+                fig.colorbar(mappables[k], ax=axes, shrink=0.9 if count == 1 else 0.6,
+                             label="%s pressure (Pa)" % name)
+        if count > 1:
+            axes.flat[0].legend(loc="upper right", markerscale=2.5, fontsize=8)
     else:
         axes.flat[0].legend(loc="upper right", markerscale=3, fontsize=8)
-    fig.suptitle(title)
+    _suptitle(fig, title + (": pressure" if by == "pressure" else ": fluids"))
     fig.savefig(path, dpi=100)
     plt.close(fig)
 
@@ -66,8 +119,8 @@ def _panels(snapshots, width=4.2):
         hi[1] = min(hi[1], fluid_top + 0.1 * (fluid_top - lo[1]))
     pad = 0.03 * (hi - lo).max()
     aspect = (hi[1] - lo[1] + 2 * pad) / (hi[0] - lo[0] + 2 * pad)
-    fig, axes = plt.subplots(rows, columns, figsize=(width * columns + 1.2,
-                                                     width * aspect * rows + 0.8 * rows),
+    fig, axes = plt.subplots(rows, columns, figsize=(width * columns + 1.6,
+                                                     width * aspect * rows + 0.8 * rows + 0.4),
                              squeeze=False, layout="constrained")
     return fig, axes, lo, hi, pad
 
@@ -81,7 +134,7 @@ def velocity_picture(path, snapshots, title, fluid_names, fluid, stride=1):
     for ax, snap in zip(axes.flat, snapshots):
         xy, uv, kinds, ids = (snap["positions"], snap["velocities"], snap["kinds"],
                               snap["fluid_ids"])
-        ax.scatter(xy[kinds != 0, 0], xy[kinds != 0, 1], s=1.5, c="0.6")
+        _walls(ax, xy, kinds)
         for k, name in enumerate(fluid_names):
             if k != fluid:
                 mine = (kinds == 0) & (ids == k)
@@ -89,20 +142,17 @@ def velocity_picture(path, snapshots, title, fluid_names, fluid, stride=1):
                            c=PHASE_COLOURS[k % len(PHASE_COLOURS)])
         mine = np.flatnonzero((kinds == 0) & (ids == fluid))[::stride]
         speed = np.hypot(uv[mine, 0], uv[mine, 1])
+        top = max(float(np.percentile(speed, 99)) if speed.size else 0.0, 1e-9)
         quiver = ax.quiver(xy[mine, 0], xy[mine, 1], uv[mine, 0], uv[mine, 1], speed,
                            cmap="plasma", scale_units="xy", angles="xy",
-                           scale=max(float(np.percentile(speed, 99)), 1e-9) / (0.03 * (hi - lo).max()),
-                           width=0.002)
-        ax.set_aspect("equal")
-        ax.set_xlim(lo[0] - pad, hi[0] + pad)
-        ax.set_ylim(lo[1] - pad, hi[1] + pad)
-        ax.set_title("t = %.3f s" % snap["time"])
-        ax.set_xlabel("x (m)")
-        ax.set_ylabel("y (m)")
+                           scale=top / (0.03 * (hi - lo).max()), width=0.002,
+                           clim=(0.0, top), label="%s velocity" % fluid_names[fluid])
+        _frame(ax, lo, hi, pad, snap["time"])
         fig.colorbar(quiver, ax=ax, label="%s speed (m/s)" % fluid_names[fluid], shrink=0.8)
+    axes.flat[0].legend(loc="upper right", markerscale=3, fontsize=8)
     for ax in axes.flat[len(snapshots):]:
         ax.axis("off")
-    fig.suptitle("%s: %s velocity" % (title, fluid_names[fluid]))
+    _suptitle(fig, "%s: %s velocity" % (title, fluid_names[fluid]))
     fig.savefig(path, dpi=100)
     plt.close(fig)
 
@@ -113,7 +163,7 @@ def zoom_picture(path, snap, particle, half_width, title, fluid_names, reason=""
     xy, uv, kinds, ids = snap["positions"], snap["velocities"], snap["kinds"], snap["fluid_ids"]
     centre = xy[particle]
     near = np.all(np.abs(xy - centre) <= half_width, axis=1)
-    fig, ax = plt.subplots(figsize=(6.5, 6), layout="constrained")
+    fig, ax = plt.subplots(figsize=(6.5, 6.5), layout="constrained")
     ax.scatter(xy[near & (kinds != 0), 0], xy[near & (kinds != 0), 1], s=25, c="0.6",
                label="walls")
     for k, name in enumerate(fluid_names):
@@ -130,23 +180,37 @@ def zoom_picture(path, snap, particle, half_width, title, fluid_names, reason=""
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.legend(loc="upper right", fontsize=8)
-    wrapped = reason if len(reason) < 110 else reason[:107] + "..."
-    ax.set_title("%s\nlast good state, t = %.4f s\n%s" % (title, snap["time"], wrapped),
-                 fontsize=8)
+    ax.set_title(fit_title("%s\nlast good state, t = %.4f s\n%s" % (title, snap["time"], reason),
+                           6.3, 8), fontsize=8)
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
-def series_picture(path, names, rows):
-    """Each probe against time."""
+def probe_label(probe):
+    """The y axis of a probe: what it measures and its unit."""
+    kind = probe["type"]
+    if kind == "pressure":
+        return "%s\npressure at (%g, %g) m (Pa)" % (probe["name"], probe["at"][0],
+                                                     probe["at"][1])
+    if kind == "front":
+        return "%s\nsurge front x (m)" % probe["name"]
+    if kind == "count":
+        return "%s\n%s particles" % (probe["name"], probe["fluid"])
+    what = "%s (%s)" % (probe["stat"], STAT_UNITS.get(probe["stat"], "particles"))
+    return what if probe["name"] == probe["stat"] else "%s\n%s" % (probe["name"], what)
+
+
+def series_picture(path, probes, rows, title):
+    """Each probe against time, one panel each, labelled with its unit."""
     data = np.array(rows, dtype=float)
-    fig, axes = plt.subplots(len(names), 1, figsize=(7, 2.4 * len(names)), squeeze=False,
-                             sharex=True, layout="constrained")
-    for k, (ax, name) in enumerate(zip(axes.flat, names)):
-        ax.plot(data[:, 0], data[:, 2 + k], "-")
-        ax.set_ylabel(name)
+    fig, axes = plt.subplots(len(probes), 1, figsize=(7.5, 2.3 * len(probes) + 0.7),
+                             squeeze=False, sharex=True, layout="constrained")
+    for k, (ax, probe) in enumerate(zip(axes.flat, probes)):
+        ax.plot(data[:, 0], data[:, 2 + k], "-", lw=1.2)
+        ax.set_ylabel(probe_label(probe), fontsize=9)
         ax.grid(alpha=0.3)
-    axes.flat[-1].set_xlabel("time (s)")
+    axes.flat[-1].set_xlabel("time t (s)")
+    _suptitle(fig, title + ": probes")
     fig.savefig(path, dpi=100)
     plt.close(fig)
 
@@ -161,20 +225,36 @@ def martin_moyce():
             for a in np.unique(data[:, 0])}
 
 
-def front_picture(path, front, column_width, title, g=9.81):
-    """Surge front Z = z/a against T = t sqrt(2g/a), with Martin & Moyce."""
-    t, z = front[:, 0], front[:, 1]
-    keep = np.isfinite(z)
+def front_picture(path, front, column_width, title, origin=0.0, wall=None, g=9.81):
+    """Surge front Z = (x - origin)/a against T = t sqrt(2g/a), with Martin &
+    Moyce (1952) and the opposite wall at x = `wall` (m) as a line; the
+    curve stops where the front reaches the wall (beyond, Z means nothing)."""
+    t, x = front[:, 0], front[:, 1]
+    keep = np.isfinite(x)
     T = t[keep] * np.sqrt(2 * g / column_width)
-    fig, ax = plt.subplots(figsize=(6, 4.5), layout="constrained")
-    ax.plot(T, z[keep] / column_width, "-", label="libmps2p")
+    Z = (x[keep] - origin) / column_width
+    Z_wall = (wall - origin) / column_width if wall is not None else None
+    if Z_wall is not None:
+        reached = np.flatnonzero(Z >= Z_wall - 0.02)
+        if reached.size:
+            T, Z = T[:reached[0] + 1], Z[:reached[0] + 1]
+    fig, ax = plt.subplots(figsize=(6.5, 4.8), layout="constrained")
+    ax.plot(T, Z, "-", lw=1.6, label="libmps2p")
     for (a_inch, (ref_T, ref_Z)), marker in zip(sorted(martin_moyce().items(), reverse=True),
                                                "osd^"):
-        ax.plot(ref_T, ref_Z, marker, mfc="none", label="Martin & Moyce 1952, a = %g in" % a_inch)
-    ax.set_xlabel("T = t sqrt(2g/a)")
-    ax.set_ylabel("Z = z/a (surge front)")
-    ax.set_xlim(0, min(4.0, T.max() if T.size else 4.0))
-    ax.set_title("%s\nsurge front, a = %g m" % (title, column_width))
+        ax.plot(ref_T, ref_Z, marker, mfc="none", label="Martin & Moyce 1952, a = %g in"
+                % a_inch)
+    top = max(float(Z.max()) if Z.size else 1.0, Z_wall or 0.0)
+    if Z_wall is not None:
+        ax.axhline(Z_wall, color="0.3", lw=1.0, ls="--",
+                   label="opposite wall, Z = %.3g" % Z_wall)
+    T_end = float(T.max()) if T.size else 4.0
+    ax.set_xlim(0, max(1.0, min(4.0, T_end + 0.3)))
+    ax.set_ylim(min(0.8, float(Z.min()) - 0.1) if Z.size else 0.8, 1.1 * top)
+    ax.set_xlabel("T = t sqrt(2g/a) (dimensionless time; t in s, a = %g m)" % column_width)
+    ax.set_ylabel("Z = z/a (surge front, dimensionless)")
+    ax.set_title(fit_title("%s\nsurge front against Martin & Moyce (1952), column width a = "
+                           "%g m" % (title, column_width), 6.2), fontsize=TITLE_SIZE - 1)
     ax.legend(loc="upper left", fontsize=8)
     ax.grid(alpha=0.3)
     fig.savefig(path, dpi=120)

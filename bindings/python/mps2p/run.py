@@ -1,6 +1,7 @@
 """Running a scene file: snapshots and probe series into one HDF5 file (with
 its XDMF sidecar), series.csv, summary.json and pictures."""
 import json
+import math
 import os
 import sys
 import time as clock
@@ -9,8 +10,9 @@ import numpy as np
 
 from . import errors
 from ._core import version
+from .progress import Progress
 from .results import Results
-from .scenefile import load
+from .scenefile import check_schedule, load
 
 PICTURE_SNAPSHOTS = 6
 
@@ -46,40 +48,6 @@ class Probes:
         return values
 
 
-class Progress:
-    """One line on stderr: time reached, steps, particle-steps per second, ETA.
-    Redrawn in place on a terminal, a line per snapshot otherwise."""
-
-    def __init__(self, end, particles, enabled):
-        self.end, self.particles, self.enabled = end, particles, enabled
-        self.terminal = enabled and sys.stderr.isatty()
-        self.started = clock.perf_counter()
-        self.last_draw = 0.0
-
-    def update(self, solver, snapshot=False, final=False):
-        if not self.enabled:
-            return
-        now = clock.perf_counter()
-        if self.terminal and not (final or now - self.last_draw > 0.2):
-            return
-        if not self.terminal and not (snapshot or final):
-            return
-        self.last_draw = now
-        wall = now - self.started
-        t, steps = solver.time, solver.step_count
-        rate = self.particles * steps / wall if wall > 0 else 0.0
-        eta = wall * (self.end - t) / t if t > 0 else float("nan")
-        filled = int(30 * min(1.0, t / self.end))
-        line = "[%s%s] t = %.4g / %.4g s, %d steps, %.3g particle-steps/s, ETA %s" % (
-            "#" * filled, "." * (30 - filled), t, self.end, steps, rate,
-            "%.0f s" % eta if np.isfinite(eta) else "?")
-        if self.terminal:
-            sys.stderr.write("\r" + line + ("\n" if final else ""))
-        else:
-            sys.stderr.write(line + "\n")
-        sys.stderr.flush()
-
-
 def _schedule(end_time, every):
     if every <= 0:
         return [end_time]
@@ -106,17 +74,32 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False):
     good state is written as a final snapshot and everything so far is kept."""
     scene_file = load(scene_path)
     end = scene_file.end_time if until is None else float(until)
-    if not end > 0:
-        raise errors.SceneFileError("%s: the end time must be > 0, got %r" % (scene_path, until))
+    if not (end > 0 and math.isfinite(end)):
+        raise errors.SceneFileError("%s: the end time must be > 0 and finite, got %r"
+                                    % (scene_path, until))
+    problem = check_schedule(end, scene_file.snapshot_every, scene_file.series_every)
+    if problem:
+        raise errors.SceneFileError("%s: %s: %s" % ((scene_path,) + problem))
+    if pictures and not pictures_available():
+        print("mps2p: warning: no pictures: matplotlib is not installed "
+              "(pip install matplotlib)", file=sys.stderr)
+        pictures = False
     solver = scene_file.make_solver()
-    os.makedirs(out_dir, exist_ok=True)
+    try:
+        make_output_folder(out_dir)
+    except errors.Error:
+        solver.close()
+        raise
     probes = Probes(scene_file)
     n = solver.particle_count
     snapshot_times = set(_schedule(end, scene_file.snapshot_every))
     wanted = [t for t in scene_file.picture_times or [] if t <= end]
     if wanted:
         scheduled = snapshot_times | {0.0}
-        picture_times = sorted(_on_schedule(t, scheduled, end) for t in wanted)
+        # the start, always; the end too when --until cut the asked times short
+        shortened = len(wanted) < len(scene_file.picture_times)
+        picture_times = sorted({_on_schedule(t, scheduled, end)
+                                for t in wanted + [0.0] + ([end] if shortened else [])})
         snapshot_times |= set(t for t in picture_times if t > 0)
     else:  # none asked for, or none before a shortened run's end
         candidates = sorted(snapshot_times | {0.0})
@@ -210,15 +193,41 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False):
                          diverged_particle, 10 * scene_file.l0, title, scene_file.fluids,
                          reason)
         if probes.names:
-            series_picture(os.path.join(out_dir, "series.png"), probes.names, rows)
+            series_picture(os.path.join(out_dir, "series.png"), scene_file.probes, rows,
+                           title)
+        tanks = scene_file.data.get("tank", [])
+        origin, wall = (tanks[0]["box"][0], tanks[0]["box"][2]) if tanks else (0.0, None)
         for p in scene_file.probes:
             if p["type"] == "front" and "compare" in p:
                 k = probes.names.index(p["name"])
                 data = np.array([[r[0], r[2 + k]] for r in rows])
                 front_picture(os.path.join(out_dir, "front.png"), data, p["column_width"],
-                              title)
+                              title, origin=origin, wall=wall)
     solver.close()
     return summary
+
+
+def pictures_available():
+    """True when matplotlib can be imported (the pictures need it)."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def make_output_folder(path):
+    """Creates the output folder (and its parents), or raises FileError with
+    the reason: a file in the way, no permission, a read-only place."""
+    if os.path.exists(path) and not os.path.isdir(path):
+        raise errors.FileError("output folder %s: a file of that name is in the way" % path)
+    try:
+        os.makedirs(path, exist_ok=True)
+    except OSError as e:
+        raise errors.FileError("output folder %s: cannot create it: %s"
+                               % (path, e.strerror or e)) from None
+    if not os.access(path, os.W_OK | os.X_OK):
+        raise errors.FileError("output folder %s: not writable" % path)
 
 
 def _on_schedule(t, times, end):

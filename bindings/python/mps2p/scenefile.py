@@ -5,11 +5,17 @@ type or impossible geometry is refused with the file, the key and the reason.
 Layout (every table is optional unless marked):
 
     [run]                       # required
+    name = "dam_break"          # the output folder's name, out/<name> (default: the
+                                # file's name): 1 to 100 letters, digits, _ - . not
+                                # starting with . (one path component, never a path)
+    description = "..."         # one line, shown by `mps2p examples`
     l0 = 0.01                   # particle spacing (m), required
     end_time = 1.0              # s, required
-    snapshot_every = 0.1        # s between snapshots (0 = first and last only)
+    snapshot_every = 0.1        # s between snapshots (0 = first and last only;
+                                # at most 100,000 snapshots in a run)
     picture_times = [0.1, 0.4]  # snapshots drawn in the pictures (default: six, evenly)
-    series_every = 0.01         # s between probe samples (0 = every step)
+    series_every = 0.01         # s between probe samples (0 = every step; at most
+                                # 10,000,000 samples in a run)
 
     [parameters]                # numeric parameters of the C library, by name
     [options]                   # named choices, e.g. pressure_solver = "cg"
@@ -32,6 +38,7 @@ Layout (every table is optional unless marked):
 import math
 import os
 import re
+import warnings
 
 try:
     import tomllib
@@ -70,7 +77,14 @@ ARRAYS_OF_TABLES = ("fluid", "fluid_box", "tank", "wall_box", "particles", "prob
 PROBE_KEYS = {"pressure": {"at"}, "front": {"fluid", "below", "compare", "column_width"},
               "count": {"fluid"}, "stat": {"stat"}}
 FRONT_REFERENCES = ("martin_moyce_1952",)
-PROBE_NAME = re.compile(r"^[A-Za-z0-9_.-]+$")
+# Probe names become HDF5 series names (lib/results_file.c: 1 to 64 of these).
+PROBE_NAME = re.compile(r"^[A-Za-z0-9_-][A-Za-z0-9_.-]{0,63}$")
+# A run's name is the folder out/<name>: one path component, never "", "." or "..".
+RUN_NAME = re.compile(r"^[A-Za-z0-9_-][A-Za-z0-9_.-]{0,99}$")
+# Each scheduled time is kept in a list, each snapshot in the results file:
+# a schedule finer than this is refused rather than filling memory and disk.
+MAX_SNAPSHOTS = 100000
+MAX_SAMPLES = 10000000
 
 
 class SceneFile:
@@ -82,7 +96,7 @@ class SceneFile:
         self.text = text
         self.data = data
         run = data["run"]
-        self.name = run.get("name", os.path.splitext(os.path.basename(path))[0])
+        self.name = run.get("name") or default_name(path)
         self.l0 = run["l0"]
         self.end_time = run["end_time"]
         self.snapshot_every = run.get("snapshot_every", 0.0)
@@ -118,10 +132,16 @@ class SceneFile:
 
     def _build_into(self, scene):
         def call(key, function, *args):
-            try:
-                return function(*args)
-            except errors.Error as e:
-                raise self.error(key, str(e)) from e
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always", errors.SnapWarning)
+                try:
+                    result = function(*args)
+                except (errors.Error, TypeError, ValueError) as e:
+                    raise self.error(key, str(e)) from e
+            for w in caught:  # the same warning, naming the file and key
+                warnings.warn("%s: %s: %s" % (self.path, key, w.message), w.category,
+                              stacklevel=4)
+            return result
 
         for key, value in self.data.get("parameters", {}).items():
             call("parameters." + key, scene.set_param, key, value)
@@ -173,6 +193,23 @@ class SceneFile:
         for needed in ("positions", "kinds"):
             if needed not in arrays:
                 raise self.error(key + ".file", "%s has no array '%s'" % (path, needed))
+        # shapes and kinds of number here, with the file's name; ranges in the binding
+        n = arrays["positions"].shape[0] if arrays["positions"].ndim == 2 else -1
+        for name_, shape, integer in (("positions", (n, 2), False), ("kinds", (n,), True),
+                                      ("fluid_ids", (n,), True), ("velocities", (n, 2), False)):
+            if name_ not in arrays:
+                continue
+            array = arrays[name_]
+            wanted = "(n, 2)" if len(shape) == 2 else "(n,)"
+            if n < 0 or array.shape != shape:
+                raise self.error(key + ".file", "%s: %s must have shape %s%s, got %s"
+                                 % (path, name_, wanted, "" if n < 0 or name_ == "positions"
+                                    else " with n = %d as positions" % n, array.shape))
+            kind = array.dtype.kind
+            if (integer and kind not in "iu") or (not integer and kind not in "iuf"):
+                raise self.error(key + ".file", "%s: %s must hold %s, got %s"
+                                 % (path, name_, "integers" if integer else "real numbers",
+                                    array.dtype))
         return arrays
 
 
@@ -188,6 +225,9 @@ def load(path):
         data = tomllib.loads(text)
     except (UnicodeDecodeError, tomllib.TOMLDecodeError) as e:
         raise errors.SceneFileError("%s: not valid TOML: %s" % (path, e)) from e
+    except RecursionError:
+        raise errors.SceneFileError("%s: not a scene file: arrays or tables nested too deep"
+                                    % path) from None
     check(path, data)
     return SceneFile(path, text, data)
 
@@ -239,9 +279,16 @@ def check(path, data):
     for key in ("l0", "end_time"):
         if not run[key] > 0:
             fail("run." + key, "must be > 0, got %r" % run[key])
+    if "name" in run and not RUN_NAME.match(run["name"]):
+        fail("run.name", "must be 1 to 100 letters, digits, _ - . not starting with . (it "
+             "names the folder out/<name>), got %s" % _shorten(run["name"]))
     for key in ("snapshot_every", "series_every"):
         if key in run and run[key] < 0:
             fail("run." + key, "must be >= 0, got %r" % run[key])
+    schedule_problem = check_schedule(run["end_time"], run.get("snapshot_every", 0.0),
+                                      run.get("series_every", 0.0))
+    if schedule_problem:
+        fail(*schedule_problem)
     for t in run.get("picture_times", []):
         if not 0 <= t <= run["end_time"]:
             fail("run.picture_times", "each time must be in [0, end_time], got %r" % t)
@@ -254,12 +301,38 @@ def check(path, data):
     _check_probes(fail, data.get("probe", []), names)
 
 
+def check_schedule(end_time, snapshot_every, series_every):
+    """(key, reason) when the output schedule up to end_time is too fine to
+    keep, else None."""
+    for key, every, most, what in (("run.snapshot_every", snapshot_every, MAX_SNAPSHOTS,
+                                    "snapshots"),
+                                   ("run.series_every", series_every, MAX_SAMPLES, "samples")):
+        if every > 0 and end_time / every > most:
+            return key, ("%r s gives %.3g %s up to %g s, more than %d; use a coarser interval%s"
+                         % (every, end_time / every, what, end_time, most,
+                            " or 0 (every step)" if what == "samples" else ""))
+    return None
+
+
+def default_name(path):
+    """The run's name when [run] has none: the file's name without .toml,
+    made one safe path component."""
+    stem = os.path.splitext(os.path.basename(path))[0]
+    name = re.sub(r"[^A-Za-z0-9_.-]", "_", stem)[:100].lstrip(".")
+    return name or "run"
+
+
+def _shorten(text, most=60):
+    return repr(text) if len(text) <= most else "%r... (%d characters)" % (text[:most], len(text))
+
+
 def _check_probes(fail, probes, fluid_names):
     seen = set()
     for i, p in enumerate(probes):
         label = "probe[%d]" % i
         if not PROBE_NAME.match(p["name"]):
-            fail(label + ".name", "letters, digits, _ - . only, got %r" % p["name"])
+            fail(label + ".name", "1 to 64 letters, digits, _ - . not starting with ., got %s"
+                 % _shorten(p["name"]))
         if p["name"] in seen:
             fail(label + ".name", "another probe is called %r" % p["name"])
         seen.add(p["name"])

@@ -5,7 +5,7 @@ returned, and changing the array never changes the solver."""
 import numpy as np
 
 from . import errors
-from ._core import Owned, check, encode, real
+from ._core import Owned, check, encode, encode_path, index, real, real_array
 from ._native import ffi, lib
 
 STAT_KEYS = ("max_speed", "kinetic_energy", "potential_energy", "pressure_min",
@@ -16,11 +16,17 @@ STAT_KEYS = ("max_speed", "kinetic_energy", "potential_energy", "pressure_min",
              "gas_triggered", "gas_enclosed", "gas_joined", "gas_in_liquid", "gas_capped",
              "gas_pressure_max",
              "gas_ppe_unknowns", "gas_ppe_iterations", "two_phase_active")
+# Statistics that count something (include/mps2p.h): returned as int.
+COUNT_STATS = frozenset((
+    "ppe_unknowns", "ppe_iterations", "surface_particles", "neighbour_builds",
+    "ppe_iterations_total", "ppe_analyses", "memory_bytes", "diverged_particle",
+    "gas_triggered", "gas_enclosed", "gas_joined", "gas_in_liquid", "gas_capped",
+    "gas_ppe_unknowns", "gas_ppe_iterations", "two_phase_active"))
 
 
 class State(Owned):
-    """A solver state saved in memory (wraps mps2p_state); freed when collected
-    or closed."""
+    """A solver state saved in memory by Solver.save_state() (wraps
+    mps2p_state); freed when collected or closed."""
 
     _what = "state"
 
@@ -31,32 +37,76 @@ class State(Owned):
 class Solver(Owned):
     """Wraps mps2p_solver. Solver(scene) copies the scene: the scene may be
     changed or closed afterwards. Free it with close(), a `with` block, or
-    garbage collection."""
+    garbage collection. Solver.load_checkpoint(path) restores one from a file.
+
+    While advance_to runs, its progress callback may read the solver (time,
+    fields, statistics) but not change it: step, advance_to, close and the
+    other calls that change the state raise StateError there."""
 
     _what = "solver"
+    _busy = False
 
-    def __init__(self, scene=None, _handle=None):
-        if _handle is not None:
-            self._own(_handle, lib.mps2p_solver_destroy)
-            return
+    def __init__(self, scene):
+        from .scene import Scene
+        if not isinstance(scene, Scene):
+            raise TypeError("Solver(scene) needs an mps2p.Scene, got %s" % type(scene).__name__)
         handle = ffi.new("mps2p_solver **")
         check(lib.mps2p_solver_create(scene.handle, handle))
         self._own(handle[0], lib.mps2p_solver_destroy)
+
+    @classmethod
+    def _adopt(cls, handle):
+        solver = cls.__new__(cls)
+        solver._own(handle, lib.mps2p_solver_destroy)
+        return solver
+
+    def _changing(self, what):
+        """The handle, for a call that changes the solver; refused while a
+        progress callback of advance_to runs (the C loop holds the state)."""
+        if self._busy:
+            raise errors.StateError(
+                "solver is running advance_to: %s from its progress callback is refused "
+                "(return a true value from the callback to stop the run)" % what,
+                lib.MPS2P_ERR_STATE, "MPS2P_ERR_STATE")
+        return self.handle
+
+    def close(self):
+        """Frees the C solver now; later use raises ValueError. Refused
+        (StateError) from inside a progress callback of advance_to."""
+        if self._handle is not None:
+            self._changing("close()")
+        super().close()
 
     # -- running ------------------------------------------------------------
     def step(self):
         """One time step. Raises DivergedError or SolveError (the solver keeps
         the state from before the step)."""
-        check(lib.mps2p_solver_step(self.handle))
+        check(lib.mps2p_solver_step(self._changing("step()")))
 
     def advance_to(self, end_time, progress=None):
-        """Steps until `end_time` exactly. `progress(solver)` is called after
-        each step; a true return value stops the run. Returns True when
-        end_time was reached, False when progress stopped it. An exception
-        raised by progress stops the run and is re-raised here."""
-        if progress is None:
-            return check(lib.mps2p_solver_advance_to(self.handle, real(end_time, "end time"),
-                                                     ffi.NULL, ffi.NULL)) == lib.MPS2P_OK
+        """Steps until `end_time` (s) exactly (the C library divides the
+        remaining time evenly into steps no longer than the chosen dt).
+
+        progress: None; a callable `progress(solver)` called after each step,
+        whose true return value stops the run; or True for a progress bar on
+        stderr (tqdm when installed, `pip install tqdm`; else a plain line).
+        Returns True when end_time was reached, False when progress stopped
+        it. An exception raised by progress stops the run and is re-raised
+        here; DivergedError and SolveError as in step()."""
+        end = real(end_time, "end time")
+        handle = self._changing("advance_to()")
+        if progress is None or progress is False:
+            return check(lib.mps2p_solver_advance_to(handle, end, ffi.NULL, ffi.NULL)) \
+                == lib.MPS2P_OK
+        if progress is True:
+            from .progress import bar_for
+            with bar_for(self, end) as bar:
+                return self._advance_with(end, bar.update)
+        if not callable(progress):
+            raise TypeError("progress must be a callable, True or None, got %r" % (progress,))
+        return self._advance_with(end, progress)
+
+    def _advance_with(self, end, progress):
         failure = []
 
         @ffi.callback("int(const mps2p_solver *, void *)")
@@ -67,8 +117,11 @@ class Solver(Owned):
                 failure.append(e)
                 return 1
 
-        status = lib.mps2p_solver_advance_to(self.handle, real(end_time, "end time"),
-                                             callback, ffi.NULL)
+        self._busy = True
+        try:
+            status = lib.mps2p_solver_advance_to(self.handle, end, callback, ffi.NULL)
+        finally:
+            self._busy = False
         if failure:
             raise failure[0]
         return check(status) == lib.MPS2P_OK
@@ -76,24 +129,28 @@ class Solver(Owned):
     # -- state ----------------------------------------------------------------
     @property
     def particle_count(self):
+        """Particles in the solver (fluid, wall and dummy), int."""
         count = ffi.new("size_t *")
         check(lib.mps2p_solver_particle_count(self.handle, count))
-        return count[0]
+        return int(count[0])
 
     @property
     def time(self):
+        """Simulated time reached (s)."""
         value = ffi.new("double *")
         check(lib.mps2p_solver_get_time(self.handle, value))
         return value[0]
 
     @property
     def step_count(self):
+        """Steps taken since the start (int; a restored checkpoint keeps its count)."""
         value = ffi.new("uint64_t *")
         check(lib.mps2p_solver_get_step_count(self.handle, value))
         return int(value[0])
 
     @property
     def last_dt(self):
+        """Length of the last step (s); 0 before the first."""
         value = ffi.new("double *")
         check(lib.mps2p_solver_get_last_dt(self.handle, value))
         return value[0]
@@ -106,19 +163,19 @@ class Solver(Owned):
         return out
 
     def positions(self):
-        """(n, 2) float64, a copy."""
+        """(n, 2) float64 positions (m), a copy."""
         return self._field(lib.mps2p_solver_get_positions, np.float64, 2)
 
     def velocities(self):
-        """(n, 2) float64, a copy."""
+        """(n, 2) float64 velocities (m/s), a copy."""
         return self._field(lib.mps2p_solver_get_velocities, np.float64, 2)
 
     def pressure(self):
-        """(n,) float64 in Pa, a copy."""
+        """(n,) float64 pressure (Pa), a copy."""
         return self._field(lib.mps2p_solver_get_pressure, np.float64, 1)
 
     def number_density(self):
-        """(n,) float64, a copy."""
+        """(n,) float64 particle number density of the last step, a copy."""
         return self._field(lib.mps2p_solver_get_number_density, np.float64, 1)
 
     def kinds(self):
@@ -130,12 +187,15 @@ class Solver(Owned):
         return self._field(lib.mps2p_solver_get_fluid_ids, np.intc, 1)
 
     def stat(self, key):
+        """The statistic `key` (STAT_KEYS; meanings and units in
+        include/mps2p.h): an int for counts (COUNT_STATS), else a float.
+        UnknownKeyError for an unknown key."""
         value = ffi.new("double *")
         check(lib.mps2p_solver_get_stat(self.handle, encode(key, "statistic name"), value))
-        return value[0]
+        return int(value[0]) if key in COUNT_STATS else value[0]
 
     def stats(self):
-        """{name: value} of every statistic."""
+        """{name: value} of every statistic, as stat() gives them."""
         return {key: self.stat(key) for key in STAT_KEYS}
 
     # -- effects and costs -------------------------------------------------
@@ -167,7 +227,8 @@ class Solver(Owned):
         return result
 
     def reset_stage_timings(self):
-        check(lib.mps2p_solver_reset_stage_timings(self.handle))
+        """Sets every stage's seconds and calls back to 0."""
+        check(lib.mps2p_solver_reset_stage_timings(self._changing("reset_stage_timings()")))
 
     # -- coupling: bodies, forces, host inputs, windows ----------------------
     def bodies(self):
@@ -178,7 +239,7 @@ class Solver(Owned):
         result = []
         for body in range(count[0]):
             check(lib.mps2p_solver_get_body(self.handle, body, name, particles))
-            result.append((ffi.string(name[0]).decode(), particles[0]))
+            result.append((ffi.string(name[0]).decode(), int(particles[0])))
         return result
 
     def body_ids(self):
@@ -189,49 +250,55 @@ class Solver(Owned):
         """(force (2,) N/m, moment N m/m about `about`) that the fluid's pressure
         exerts on the body; fluid_id >= 0 gives that fluid's part."""
         force, moment = ffi.new("double[2]"), ffi.new("double *")
-        point = ffi.new("double[2]", [real(about[0], "about"), real(about[1], "about")])
-        check(lib.mps2p_solver_body_force(self.handle, int(body_id), int(fluid_id), force,
-                                          moment, point))
+        point = ffi.new("double[2]", _pair(about, "about"))
+        check(lib.mps2p_solver_body_force(self.handle, index(body_id, "body_id"),
+                                          index(fluid_id, "fluid_id"), force, moment, point))
         return np.array([force[0], force[1]]), moment[0]
 
     def set_body_motion(self, body_id, velocity=(0.0, 0.0), angular_velocity=0.0,
                         about=(0.0, 0.0)):
         """Rigid motion of the body from the next step on (m/s, rad/s about `about`)."""
-        v = ffi.new("double[2]", [real(velocity[0], "velocity"), real(velocity[1], "velocity")])
-        point = ffi.new("double[2]", [real(about[0], "about"), real(about[1], "about")])
-        check(lib.mps2p_solver_set_body_motion(self.handle, int(body_id), v,
+        v = ffi.new("double[2]", _pair(velocity, "velocity"))
+        point = ffi.new("double[2]", _pair(about, "about"))
+        check(lib.mps2p_solver_set_body_motion(self._changing("set_body_motion()"),
+                                               index(body_id, "body_id"), v,
                                                real(angular_velocity, "angular velocity"),
                                                point))
 
     def set_body_positions(self, body_id, positions):
-        """Positions (m, 2) the body's particles reach at the end of the next step;
-        None clears them."""
+        """Positions (m, 2) in metres that the body's m particles reach at the
+        end of the next step; None clears them."""
+        handle = self._changing("set_body_positions()")
+        body_id = index(body_id, "body_id")
         if positions is None:
-            check(lib.mps2p_solver_set_body_positions(self.handle, int(body_id), ffi.NULL, 0))
+            check(lib.mps2p_solver_set_body_positions(handle, body_id, ffi.NULL, 0))
             return
-        positions = np.ascontiguousarray(positions, dtype=np.float64)
-        check(lib.mps2p_solver_set_body_positions(self.handle, int(body_id),
+        positions = real_array(positions, (-1, 2), "positions")
+        check(lib.mps2p_solver_set_body_positions(handle, body_id,
                                                   ffi.from_buffer("double[]", positions),
                                                   positions.size))
 
     @property
     def gravity(self):
+        """(gx, gy) in m/s^2; assign a pair to change it from the next step on."""
         g = ffi.new("double[2]")
         check(lib.mps2p_solver_get_gravity(self.handle, g))
         return (g[0], g[1])
 
     @gravity.setter
     def gravity(self, value):
-        check(lib.mps2p_solver_set_gravity(self.handle, real(value[0], "gravity"),
-                                           real(value[1], "gravity")))
+        gx, gy = _pair(value, "gravity")
+        check(lib.mps2p_solver_set_gravity(self._changing("setting gravity"), gx, gy))
 
     def set_body_forces(self, accelerations):
-        """Per-particle accelerations (n, 2) added to the fluid every step; None clears."""
+        """Per-particle accelerations (n, 2) m/s^2, n = particle_count, added to
+        the fluid every step; None clears them."""
+        handle = self._changing("set_body_forces()")
         if accelerations is None:
-            check(lib.mps2p_solver_set_body_forces(self.handle, ffi.NULL, 0))
+            check(lib.mps2p_solver_set_body_forces(handle, ffi.NULL, 0))
             return
-        accelerations = np.ascontiguousarray(accelerations, dtype=np.float64)
-        check(lib.mps2p_solver_set_body_forces(self.handle,
+        accelerations = real_array(accelerations, (self.particle_count, 2), "accelerations")
+        check(lib.mps2p_solver_set_body_forces(handle,
                                                ffi.from_buffer("double[]", accelerations),
                                                accelerations.size))
 
@@ -243,12 +310,19 @@ class Solver(Owned):
         return State(handle[0])
 
     def restore_state(self, state):
-        check(lib.mps2p_solver_restore_state(self.handle, state.handle))
+        """Puts the solver back to a State from save_state() of this solver
+        (or one built from the same scene): positions, time, step count and
+        everything else the next step reads; clears a divergence since."""
+        if not isinstance(state, State):
+            raise TypeError("restore_state needs a State from save_state(), got %s"
+                            % type(state).__name__)
+        check(lib.mps2p_solver_restore_state(self._changing("restore_state()"), state.handle))
 
     def advance_window(self, end_time):
         """One coupling window to end_time exactly; returns the steps it took."""
         steps = ffi.new("uint64_t *")
-        check(lib.mps2p_solver_advance_window(self.handle, real(end_time, "end time"), steps))
+        check(lib.mps2p_solver_advance_window(self._changing("advance_window()"),
+                                              real(end_time, "end time"), steps))
         return int(steps[0])
 
     # -- probes and checkpoints -------------------------------------------
@@ -256,11 +330,10 @@ class Solver(Owned):
         """Pressure and velocity at arbitrary points, MPS-weighted from the
         particles around each: returns (pressure (m,), velocity (m, 2), inside (m,)
         bool). Points outside the fluid get 0 and inside False."""
-        points = np.ascontiguousarray(points, dtype=np.float64)
+        points = np.asarray(points)
         if points.ndim == 1:
             points = points.reshape(1, -1)
-        if points.ndim != 2 or points.shape[1] != 2:
-            raise ValueError("points must have shape (m, 2), got %s" % (points.shape,))
+        points = real_array(points, (-1, 2), "points")
         m = points.shape[0]
         pressure = np.empty(m)
         velocity = np.empty((m, 2))
@@ -275,20 +348,31 @@ class Solver(Owned):
         """Surge front: the largest x of the fluid's particles (any fluid for
         fluid_id -1) lower than `below` (m), plus l0/2."""
         x = ffi.new("double *")
-        check(lib.mps2p_solver_front(self.handle, int(fluid_id),
+        check(lib.mps2p_solver_front(self.handle, index(fluid_id, "fluid_id"),
                                      real(below if below is not None else float("inf"), "below"), x))
         return x[0]
 
     def save_checkpoint(self, path):
-        """Writes everything the next step depends on (atomically)."""
-        check(lib.mps2p_solver_save_checkpoint(self.handle, encode(str(path), "path")))
+        """Writes everything the next step depends on to `path` (str or
+        os.PathLike; written aside and renamed, so a crash never leaves half a
+        checkpoint)."""
+        check(lib.mps2p_solver_save_checkpoint(self.handle, encode_path(path)))
 
     @staticmethod
     def load_checkpoint(path):
-        """A solver restored from a checkpoint; it continues bitwise as the saved one would."""
+        """A solver restored from a checkpoint file; it continues bitwise as
+        the saved one would."""
         handle = ffi.new("mps2p_solver **")
-        check(lib.mps2p_solver_load_checkpoint(encode(str(path), "path"), handle))
-        return Solver(_handle=handle[0])
+        check(lib.mps2p_solver_load_checkpoint(encode_path(path), handle))
+        return Solver._adopt(handle[0])
 
 
-__all__ = ["Solver", "STAT_KEYS", "errors"]
+def _pair(value, what):
+    try:
+        x, y = value
+    except (TypeError, ValueError):
+        raise TypeError("%s must be a pair (x, y), got %r" % (what, value)) from None
+    return [real(x, what), real(y, what)]
+
+
+__all__ = ["Solver", "State", "STAT_KEYS", "COUNT_STATS", "errors"]
