@@ -168,7 +168,12 @@ class Scene(Owned):
     # -- parameters and options -------------------------------------------
     def set(self, **settings):
         """Sets numeric parameters and options by name: set(cfl=0.1,
-        pressure_solver="cg"). A str value is an option, a number a parameter."""
+        pressure_solver="cg"). A str value is an option, a number a parameter.
+        A scheme ("scheme": "corrected" or "koshizuka1996") is set first, so
+        that the other settings given with it override its choices."""
+        if "scheme" in settings:
+            settings = dict(settings)
+            self.set_option("scheme", settings.pop("scheme"))
         for key, value in settings.items():
             if isinstance(value, str):
                 self.set_option(key, value)

@@ -143,9 +143,14 @@ class SceneFile:
                               stacklevel=4)
             return result
 
+        # a scheme sets several parameters and options: first, so that the
+        # file's own settings override it
+        options = dict(self.data.get("options", {}))
+        if "scheme" in options:
+            call("options.scheme", scene.set_option, "scheme", options.pop("scheme"))
         for key, value in self.data.get("parameters", {}).items():
             call("parameters." + key, scene.set_param, key, value)
-        for key, value in self.data.get("options", {}).items():
+        for key, value in options.items():
             call("options." + key, scene.set_option, key, value)
         for key, value in self.data.get("effects", {}).items():
             call("effects." + key, scene.set_option, "effect." + key, value)

@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# The long suite (not part of scripts/test.sh; about half an hour on 2 cores):
+# 10 s of still water in the 0.3 m and 0.2 m tanks against issue 15's bars
+# (meson suite "long"), then examples/validation.py's full runs (still water
+# for both schemes, the dam break at four spacings, Buchner's impact pressure
+# at H/l0 = 40 and 80) into out/validation, whose numbers docs/validation.md
+# quotes. The full accuracy-cost study is `mps2p study` (docs/accuracy-cost.md).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+[ -d build-release ] || meson setup build-release --buildtype=release >/dev/null
+ninja --quiet -C build-release
+meson test -C build-release --suite long --print-errorlogs
+export MPS2P_LIBRARY="$PWD/build-release/lib/libmps2p.so.0"
+export PYTHONPATH="$PWD/bindings/python${PYTHONPATH:+:$PYTHONPATH}"
+python3 examples/validation.py all --out out/validation
