@@ -137,17 +137,21 @@ MPS2P_API int mps2p_scene_add_particles(mps2p_scene *scene, size_t count,
 
 MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count);
 
-/* Numerical parameters, by name. Defaults and meanings:
+/* Numerical parameters, by name. Defaults (those the option "scheme" sets are
+ * marked *, with Koshizuka and Oka's value in brackets) and meanings:
  *   re_density              2.1   radius of number density and gradient, in l0
- *   re_laplacian            4.0   radius of the Laplacian, in l0
+ *   re_laplacian          * 3.1   radius of the Laplacian, in l0 (4.0)
  *   beta                    0.97  free surface when n* < beta n0
  *   gravity_x, gravity_y    0, -9.81 (m/s^2)
  *   dt                      0     fixed time step (s); 0 = adaptive (cfl)
  *   cfl                     0.2   adaptive dt <= cfl l0 / max speed
  *   diffusion_number        0.2   adaptive dt <= diffusion_number l0^2 / nu
+ *   gravity_number        * 0.03  adaptive dt <= gravity_number sqrt(l0 / |g|);
+ *                                 0 = no such limit (0)
  *   dt_max                  0     largest adaptive dt (s); 0 = cfl l0 / sqrt(2 |g| H),
  *                                 H the height of the initial fluid
- *   collision_distance      0.5   too-close distance, in l0; 0 = no collision model
+ *   collision_distance    * 0.995 too-close distance, in l0; 0 = no collision
+ *                                 model (0.5)
  *   collision_restitution   0.2   restitution of the collision model
  *   ppe_relaxation          0.2   factor on the PPE source term
  *   compressibility         4.5e-10  1/Pa, on the PPE diagonal; keeps a fluid
@@ -183,16 +187,27 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  *                     Cholesky with the matrix's own pattern, about 3.5
  *                     times fewer iterations at twice the cost of one; pays
  *                     with re_laplacian near 2 (a sparse matrix), not with
- *                     the default 4 (docs/performance.md)
- *   pressure_gradient "minimum" (default): Koshizuka and Oka's gradient with
- *                     p^_i = min of the neighbours' pressures as reference
- *                     (METHOD.md, the paper's form; robust in violent flow);
- *                     "corrected": p_i as reference and the corrective
- *                     matrix, exact for linear fields (Khayyer and Gotoh)
- *   ppe_source        "density" (default): gamma (n* - n0), gamma =
- *                     ppe_relaxation; "mixed": (n* - n^k) + gamma (n^k - n0);
- *                     "ecs": (n* - n^k) + |n^k - n0|/n0 (n^k - n0), an
- *                     error-compensating form (all over n0, times rho/dt^2)
+ *                     4 (docs/performance.md)
+ *   scheme            "corrected" (default) or "koshizuka1996": sets
+ *                     pressure_gradient, ppe_source, wall_ghosts and the
+ *                     parameters marked * above together (docs/validation.md
+ *                     measures both); set it first, then change any of them;
+ *                     reads "custom" once one differs from both schemes
+ *   pressure_gradient "corrected" (default): p_i as reference and the
+ *                     corrective matrix, exact for linear fields (Khayyer and
+ *                     Gotoh); "minimum" (koshizuka1996): Koshizuka and Oka's
+ *                     gradient with p^_i = min of the neighbours' pressures
+ *                     as reference (METHOD.md, the paper's form)
+ *   ppe_source        "ecs" (default): (n* - n^k) + |n^k - n0|/n0 (n^k - n0),
+ *                     an error-compensating form; "density" (koshizuka1996):
+ *                     gamma (n* - n0), gamma = ppe_relaxation; "mixed":
+ *                     (n* - n^k) + gamma (n^k - n0) (all over n0, times
+ *                     rho/dt^2)
+ *   wall_ghosts       "hydrostatic" (default): a dummy wall, or a wall on the
+ *                     free surface, takes p_i + rho_i g . r_ij seen from
+ *                     particle i, in the PPE and the gradient; "none"
+ *                     (koshizuka1996): dummies only fill the number density
+ *                     and a dry wall holds p = 0
  *   ppe_pattern       "distance" (default): the PPE matrix holds the pairs
  *                     within re_laplacian; "neighbour_list": every pair of
  *                     the neighbour list (zeros beyond re_laplacian), a
@@ -233,9 +248,8 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  * bubble_relaxation_time, drift_liquid_gradient, drift_without_gravity,
  * gas_liquid_volume, gas_correction_limit, gas_cg_tolerance,
  * gas_pressure_limit): mps2p_param_info, docs/two-phase.md.
- * Water at rest stays still (docs/validation.md) with pressure_gradient
- * "corrected", ppe_source "ecs" and collision_distance 0.995; the defaults
- * let a still square lattice shear and rearrange. */
+ * Water at rest stays still with the default scheme; Koshizuka and Oka's
+ * lets a still square lattice shear and rearrange (docs/validation.md). */
 MPS2P_API int mps2p_scene_set_option(mps2p_scene *scene, const char *key,
                                      const char *value);
 MPS2P_API int mps2p_scene_get_option(const mps2p_scene *scene, const char *key,
