@@ -152,6 +152,10 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *                                 H the height of the initial fluid
  *   collision_distance    * 0.995 too-close distance, in l0; 0 = no collision
  *                                 model (0.5)
+ *   collision_time        * 0.03  the collision model gives dt / tau of its
+ *                                 impulse a step (at most all), tau =
+ *                                 collision_time sqrt(l0 / |g|): its rate does
+ *                                 not grow as dt shrinks; 0 = all every step (0)
  *   collision_restitution   0.2   restitution of the collision model
  *   ppe_relaxation          0.2   factor on the PPE source term
  *   compressibility         4.5e-10  1/Pa, on the PPE diagonal; keeps a fluid

@@ -3,7 +3,8 @@
  * restitution). Fluid pairs exchange momentum by mass; walls do not move.
  * The corrected scheme damps every approaching pair closer than about the
  * lattice spacing (0.995 l0): its gradient does not push a close pair apart
- * by itself, and without the damper it diverges (docs/validation.md). */
+ * by itself, and without the damper it diverges (docs/validation.md); its
+ * collision_time makes the damper's rate independent of dt. */
 #include "internal.h"
 
 #include <math.h>
@@ -15,6 +16,13 @@ void collision_apply(mps2p_solver *s, double dt)
         return;
     const double limit = s->params.collision_distance * s->l0;
     const double e = s->params.collision_restitution;
+    /* The share of the impulse given in one step: dt / tau, at most 1, tau =
+     * collision_time sqrt(l0 / |g|): a damper's rate then stays the same when
+     * dt shrinks (given in full every step, a smaller dt damped more; the dam
+     * break's front slowed from +17.7 % to +11.5 % at a quarter of the dt) */
+    const double g = hypot(s->params.gravity[0], s->params.gravity[1]);
+    const double tau = g > 0.0 ? s->params.collision_time * sqrt(s->l0 / g) : 0.0;
+    const double fraction = tau > 0.0 ? fmin(1.0, dt / tau) : 1.0;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, limit);
     double *position = s->state.position, *velocity = s->state.velocity;
     double *updated = s->scratch;
@@ -52,7 +60,7 @@ void collision_apply(mps2p_solver *s, double dt)
                     continue;
             } else if (s->kind[j] == MPS2P_KIND_FLUID)
                 share = s->density[j] / (s->density[i] + s->density[j]);
-            double impulse = (1.0 + e) * share * approach;
+            double impulse = fraction * (1.0 + e) * share * approach;
             updated[2 * i] -= impulse * nx;
             updated[2 * i + 1] -= impulse * ny;
         }

@@ -124,6 +124,7 @@ typedef struct params {
     double gravity_number;
     double dt_max;
     double collision_distance;
+    double collision_time;
     double collision_restitution;
     double ppe_relaxation;
     double compressibility;

@@ -35,6 +35,9 @@ static const param_entry table[] = {
      "largest adaptive dt (s); 0 = cfl l0 / sqrt(2 |g| H), H the initial fluid height"},
     {"collision_distance", FIELD(collision_distance), 0.995, 0.0, 1.0,
      "too-close distance of the collision model, in l0; 0 = off"},
+    {"collision_time", FIELD(collision_time), 0.03, 0.0, 1e6,
+     "the collision model gives dt / tau of its impulse a step (at most all), tau = "
+     "collision_time sqrt(l0 / |g|); 0 = all of it every step"},
     {"collision_restitution", FIELD(collision_restitution), 0.2, 0.0, 1.0,
      "restitution coefficient of the collision model"},
     {"ppe_relaxation", FIELD(ppe_relaxation), 0.2, 1e-6, 1.0,
@@ -108,22 +111,23 @@ static const param_entry table[] = {
 
 /* The named schemes (option "scheme"): each sets the pressure gradient, the
  * PPE source, the walls' ghosts, the Laplacian radius, the collision
- * distance and the gravity limit on dt together. The first is the default; docs/validation.md measures
+ * distance and time, and the gravity limit on dt together. The first is the default; docs/validation.md measures
  * both and says why the default is what it is. */
 typedef struct scheme_entry {
     const char *name;
     int pressure_gradient, ppe_source, wall_ghosts;
-    double re_laplacian, collision_distance, gravity_number;
+    double re_laplacian, collision_distance, collision_time, gravity_number;
 } scheme_entry;
 
 static const scheme_entry schemes[] = {
     /* Khayyer and Gotoh's corrected gradient and error-compensating source,
      * dummies and dry walls as hydrostatic ghosts, collision as a damper of
-     * every approaching pair closer than the lattice spacing, a gravity limit
-     * on dt */
-    {"corrected", GRADIENT_CORRECTED, PPE_SOURCE_ECS, WALL_GHOSTS_HYDROSTATIC, 3.1, 0.995, 0.03},
+     * every approaching pair closer than the lattice spacing at a rate that
+     * does not grow as dt shrinks, a gravity limit on dt */
+    {"corrected", GRADIENT_CORRECTED, PPE_SOURCE_ECS, WALL_GHOSTS_HYDROSTATIC, 3.1, 0.995, 0.03,
+     0.03},
     /* Koshizuka and Oka (1996), as METHOD.md restates it: the paper's scheme */
-    {"koshizuka1996", GRADIENT_MINIMUM, PPE_SOURCE_DENSITY, WALL_GHOSTS_NONE, 4.0, 0.5, 0.0},
+    {"koshizuka1996", GRADIENT_MINIMUM, PPE_SOURCE_DENSITY, WALL_GHOSTS_NONE, 4.0, 0.5, 0.0, 0.0},
 };
 #define SCHEME_COUNT (sizeof schemes / sizeof schemes[0])
 
@@ -134,6 +138,7 @@ static void scheme_apply(params *p, const scheme_entry *e)
     p->wall_ghosts = e->wall_ghosts;
     p->re_laplacian = e->re_laplacian;
     p->collision_distance = e->collision_distance;
+    p->collision_time = e->collision_time;
     p->gravity_number = e->gravity_number;
 }
 
@@ -145,7 +150,7 @@ static const scheme_entry *scheme_of(const params *p)
         if (p->pressure_gradient == e->pressure_gradient && p->ppe_source == e->ppe_source &&
             p->wall_ghosts == e->wall_ghosts && p->re_laplacian == e->re_laplacian &&
             p->collision_distance == e->collision_distance &&
-            p->gravity_number == e->gravity_number)
+            p->collision_time == e->collision_time && p->gravity_number == e->gravity_number)
             return e;
     }
     return NULL;

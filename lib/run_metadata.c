@@ -82,9 +82,12 @@ int h5_read_parameters(h5_context *ctx, hid_t file, params *out)
         /* threads changes no result bit; files from before it lack it */
         if (strcmp(key, "threads") == 0 && H5Aexists(group, key) == 0)
             continue;
-        /* files from before the corrected scheme: no gravity limit on dt */
-        if (strcmp(key, "gravity_number") == 0 && H5Aexists(group, key) == 0) {
-            out->gravity_number = 0.0;
+        /* files from before the corrected scheme: no gravity limit on dt, the
+         * collision impulse in full every step */
+        if ((strcmp(key, "gravity_number") == 0 || strcmp(key, "collision_time") == 0) &&
+            H5Aexists(group, key) == 0) {
+            *(strcmp(key, "gravity_number") == 0 ? &out->gravity_number : &out->collision_time) =
+                0.0;
             continue;
         }
         status = h5_read_attribute(ctx, group, key, H5T_NATIVE_DOUBLE, 1, &value);
