@@ -3,6 +3,7 @@ break against Martin & Moyce (1952) and the impact pressure against Buchner
 (2002), for the default scheme and Koshizuka and Oka's (scheme koshizuka1996).
 
     python3 examples/validation.py still|dam|buchner|all [--quick] [--out DIR]
+    python3 examples/validation.py tables [--out DIR]   # the JSONs as Markdown
 
 Each case writes CSV series, a JSON summary and PNG pictures into DIR
 (default out/validation). --quick runs shorter versions (still water 2 s,
@@ -144,8 +145,8 @@ def martin_moyce():
     return np.array(rows)
 
 
-def dam_break(scheme, l0=0.01, end=1.0, a=0.15, every=0.005):
-    with mps2p.Scene(l0, scheme=scheme) as scene:
+def dam_break(scheme, l0=0.01, end=1.0, a=0.15, every=0.005, cfl=0.2):
+    with mps2p.Scene(l0, scheme=scheme, cfl=cfl) as scene:
         water = scene.add_fluid("water", RHO, 1e-6)
         scene.add_fluid_box(water, 0.0, 0.0, a + 1e-9, 2 * a + 1e-9)
         scene.add_tank(0.0, 0.0, 0.6, 0.7, open_top=True)
@@ -176,7 +177,7 @@ def dam_break(scheme, l0=0.01, end=1.0, a=0.15, every=0.005):
             Zs = float(np.interp(Tm, T, Z))
             points.append({"series_in": series, "T": Tm, "Z_mm": Zm, "Z": Zs, "error": Zs / Zm - 1})
     n = int(fluid.sum())
-    summary = {"scheme": scheme, "l0": l0, "front": points,
+    summary = {"scheme": scheme, "l0": l0, "cfl": cfl, "front": points,
                "front_error_max": max(abs(p["error"]) for p in points),
                "isolated_max_fraction": float(arr[:, 2].max() / n),
                "isolated_max_at": float(arr[int(np.argmax(arr[:, 2])), 0]),
@@ -186,17 +187,20 @@ def dam_break(scheme, l0=0.01, end=1.0, a=0.15, every=0.005):
 
 def run_dam(out, quick):
     summaries, series = [], {}
-    # spacings that divide the 0.15 m column exactly
-    runs = [(s, 0.01) for s in SCHEMES] + [("corrected", 0.015)]
+    # spacings that divide the 0.15 m column exactly; the front depends on dt as
+    # much as on l0, hence the cfl sweep
+    runs = [(s, 0.01, 0.2) for s in SCHEMES] + [("corrected", 0.015, 0.2)]
     if not quick:
-        runs += [("corrected", 0.0075), ("corrected", 0.005)]
-    for scheme, l0 in runs:
-        print("dam break, %s, l0 = %g m" % (scheme, l0))
+        runs += [("corrected", 0.0075, 0.2), ("corrected", 0.005, 0.2),
+                 ("corrected", 0.01, 0.1), ("corrected", 0.01, 0.05),
+                 ("corrected", 0.005, 0.1), ("corrected", 0.005, 0.05)]
+    for scheme, l0, cfl in runs:
+        print("dam break, %s, l0 = %g m, cfl %g" % (scheme, l0, cfl))
         end = 1.0 if l0 >= 0.01 else 0.25
-        rows, s = dam_break(scheme, l0, end)
-        write_csv(os.path.join(out, "dam_%s_%g.csv" % (scheme, l0)),
+        rows, s = dam_break(scheme, l0, end, cfl=cfl)
+        write_csv(os.path.join(out, "dam_%s_%g_cfl%g.csv" % (scheme, l0, cfl)),
                   ["t", "front", "isolated"], rows)
-        series[(scheme, l0)] = np.array(rows)
+        series[(scheme, l0, cfl)] = np.array(rows)
         summaries.append(s)
         print("  front error max %.1f %%, isolated max %.1f %% at %.2f s, energy excess %.4f %%"
               % (100 * s["front_error_max"], 100 * s["isolated_max_fraction"],
@@ -211,19 +215,20 @@ def run_dam(out, quick):
         ax[0].plot(m[:, 1], m[:, 2], "k" + marker, mfc="none",
                    label="Martin & Moyce, a = %g in" % series_in)
     a = 0.15
-    for (scheme, l0), arr in series.items():
+    for (scheme, l0, cfl), arr in series.items():
+        if cfl != 0.2 and l0 != 0.01:
+            continue
         T = arr[:, 0] * math.sqrt(2 * G / a)
         keep = T <= 3.5
-        ax[0].plot(T[keep], arr[keep, 1] / a, label="%s, l0 = %g m" % (scheme, l0))
+        ax[0].plot(T[keep], arr[keep, 1] / a, label="%s, l0 = %g m, cfl %g" % (scheme, l0, cfl))
     ax[0].axhline(0.6 / a, color="grey", lw=0.8, ls=":")
     ax[0].set_xlabel("T = t sqrt(2 g / a)")
     ax[0].set_ylabel("Z = front / a")
     ax[0].set_title("Surge front (dotted: the right wall)")
     ax[0].legend(fontsize=8)
-    for (scheme, l0), arr in series.items():
+    for (scheme, l0, cfl), arr in series.items():
         if l0 == 0.01:
-            n = 450
-            ax[1].plot(arr[:, 0], 100 * arr[:, 2] / n, label=scheme)
+            ax[1].plot(arr[:, 0], 100 * arr[:, 2] / 450, label="%s, cfl %g" % (scheme, cfl))
     ax[1].axhline(2.0, color="grey", lw=0.8, ls=":")
     ax[1].set_xlabel("t (s)")
     ax[1].set_ylabel("isolated particles (% of the water)")
@@ -247,15 +252,17 @@ def buchner_reference():
 
 
 def impact(scheme, per_height, H=0.6, end_star=7.0, every_star=0.01):
-    """Buchner's dam break: column H high, 2H wide, tank 5.366 H long. The
+    """Buchner's dam break: column H high, 2H wide, tank 5.366 H long (to a
+    whole number of spacings: 5.35 H at H/l0 = 40, 5.3625 H at 80). The
     sensors sit on the right wall at y = 0.16 m and 0.584 m; the probes read
     them half a spacing inside the water, as the probes average."""
     l0 = H / per_height
-    length = 5.366 * H
+    # 5.366 H, to a whole number of spacings (tanks are built on the lattice)
+    length = math.floor(5.366 * per_height) * l0
     with mps2p.Scene(l0, scheme=scheme) as scene:
         water = scene.add_fluid("water", RHO, 1e-6)
         scene.add_fluid_box(water, 0.0, 0.0, 2 * H + 1e-9, H + 1e-9)
-        scene.add_tank(0.0, 0.0, length, 3 * H, open_top=True)
+        scene.add_tank(0.0, 0.0, length + 1e-9, 3 * H + 1e-9, open_top=True)
         solver = mps2p.Solver(scene)
     scale_t, scale_p = math.sqrt(H / G), RHO * G * H
     points = [[length - 0.5 * l0, 0.16], [length - 0.5 * l0, 0.584]]
@@ -321,13 +328,55 @@ def run_buchner(out, quick):
     return summaries
 
 
+def tables(out):
+    """The JSON summaries as docs/validation.md's Markdown tables."""
+    def load(name):
+        with open(os.path.join(out, name + ".json")) as f:
+            return json.load(f)
+    lines = ["| tank | scheme | RMS speed after 0.5 s, max (bar) | RMS displacement at the end "
+             "(bar 0.1 l0) | bottom pressure vs rho g h' (bar 1 %) | bottom row's spread, max "
+             "(bar 5 %) |", "|---|---|---|---|---|---|"]
+    for r in load("still"):
+        lines.append("| %.1f m, %g s | %s | %.2g m/s (%.2g) | %.3f l0 | %+.3f %% | %.3f %% |" % (
+            r["depth"], r["end"], r["scheme"], r["rms_speed_max_after_0.5"], r["rms_speed_bar"],
+            r["displacement_end_l0"], 100 * r["bottom_pressure_error"],
+            100 * r["bottom_spread_max"]))
+    lines += ["", "| scheme, l0, cfl | " + " | ".join(
+        "T = %.3f (%s in)" % (p["T"], ("%g" % p["series_in"])) for p in load("dam")[0]["front"])
+        + " | max | isolated, max | energy above the released, max |",
+        "|---|" + "---|" * (len(load("dam")[0]["front"]) + 3)]
+    lines.append("| Martin & Moyce Z | " + " | ".join("%.3f" % p["Z_mm"] for p in load("dam")[0]["front"])
+                 + " | | | |")
+    for r in load("dam"):
+        lines.append("| %s, %g m, %g | " % (r["scheme"], r["l0"], r["cfl"]) + " | ".join(
+            "%.3f (%+.1f %%)" % (p["Z"], 100 * p["error"]) for p in r["front"]) +
+            " | %.1f %% | %.1f %% (%.2f s) | %.3f %% |" % (
+                100 * r["front_error_max"], 100 * r["isolated_max_fraction"],
+                r["isolated_max_at"], 100 * r["energy_excess_max"]))
+    lines += ["", "| scheme, H/l0 | particles | first P1 > 0.1 (exp. %.2f) | peak | plateau "
+              "t* 3-5 (exp. %.2f) | RMS difference t* 2-7 | noise t* 2-7 (bar 0.1 at 80) |"
+              % (load("buchner")[0]["impact_t_experiment"], load("buchner")[0]["plateau_experiment"]),
+              "|---|---|---|---|---|---|---|"]
+    for r in load("buchner"):
+        lines.append("| %s, %d | %d | %s | %.2f | %.2f | %.2f | %.2f |" % (
+            r["scheme"], r["H_over_l0"], r["particles"],
+            "%.2f" % r["impact_t"] if r["impact_t"] is not None else "never",
+            r["peak"], r["plateau_3_5"], r["rms_difference_2_7"], r["noise_2_7"]))
+    print("\n".join(lines))
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("case", choices=("still", "dam", "buchner", "all"))
+    parser.add_argument("case", choices=("still", "dam", "buchner", "all", "tables"),
+                        help="a case, all three, or tables: the JSON summaries in --out as "
+                             "Markdown")
     parser.add_argument("--quick", action="store_true", help="shorter runs (see the module help)")
     parser.add_argument("--out", default=os.path.join("out", "validation"),
                         help="folder for the CSV, JSON and PNG files")
     args = parser.parse_args(argv)
+    if args.case == "tables":
+        tables(args.out)
+        return 0
     os.makedirs(args.out, exist_ok=True)
     cases = ("still", "dam", "buchner") if args.case == "all" else (args.case,)
     runners = {"still": run_still, "dam": run_dam, "buchner": run_buchner}

@@ -201,7 +201,7 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  *                     corrective matrix, exact for linear fields (Khayyer and
  *                     Gotoh); "minimum" (koshizuka1996): Koshizuka and Oka's
  *                     gradient with p^_i = min of the neighbours' pressures
- *                     as reference (METHOD.md, the paper's form)
+ *                     as reference (docs/method.md, the paper's form)
  *   ppe_source        "ecs" (default): (n* - n^k) + |n^k - n0|/n0 (n^k - n0),
  *                     an error-compensating form; "density" (koshizuka1996):
  *                     gamma (n* - n0), gamma = ppe_relaxation; "mixed":
@@ -225,7 +225,7 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  *                     MPS2P_ERR_INVALID if the scene cannot support it);
  *                     "off": left out. An effect that is off costs nothing:
  *                     its stages are not in the step.
- *   free_surface      "number_density" (default): n* < beta n0 (METHOD.md);
+ *   free_surface      "number_density" (default): n* < beta n0 (docs/method.md);
  *                     "neighbour_count": that, or fewer neighbours than
  *                     beta_count N0 (its own stage, neighbour_count)
  *   effect.excitation "auto": on when excitation_acceleration != 0: every
@@ -240,8 +240,8 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  *                     gas PPE; docs/two-phase.md, a PROTOTYPE)
  *   effect.interface_reaction  "auto": on with two_phase and
  *                     two_phase_model "two_step_improved"
- *   two_phase_model   "two_step_improved" (default; METHOD.md 3), "two_step"
- *                     (Koshizuka's conventional model, METHOD.md 2) or
+ *   two_phase_model   "two_step_improved" (default; docs/method.md 3), "two_step"
+ *                     (Koshizuka's conventional model, docs/method.md 2) or
  *                     "single" (one PPE over every fluid, as without air)
  *   interface_reaction what delta_al = 1 does in two_step_improved: "drift"
  *                     (default, provisional), "volume", "wall", "pair",

@@ -52,7 +52,7 @@ static int two_phase_needed(const mps2p_solver *s, char *why, size_t size)
     return light > 0.0;
 }
 
-/* The gas acting back on the liquid (METHOD.md 3): the improved model only.
+/* The gas acting back on the liquid (docs/method.md 3): the improved model only.
  * Decided after two_phase (effects are decided in table order). */
 static int interface_reaction_needed(const mps2p_solver *s, char *why, size_t size)
 {

@@ -19,7 +19,7 @@ void viscosity_apply(mps2p_solver *s, double dt)
         a[0] = a[1] = 0.0;
         if (s->kind[i] != MPS2P_KIND_FLUID || s->viscosity[i] <= 0.0)
             continue;
-        /* Two phases: the liquid ignores the gas (METHOD.md section 2); the gas
+        /* Two phases: the liquid ignores the gas (docs/method.md section 2); the gas
          * sees the liquid as moving walls. */
         const unsigned char *mask =
             s->phases && !s->phases->light[i] ? s->phases->heavy_mask : NULL;

@@ -1,6 +1,6 @@
 /* Free surface: particles whose p is set to 0 (Dirichlet). Option
  * free_surface:
- *   number_density   n* < beta n0 (Koshizuka and Oka; METHOD.md);
+ *   number_density   n* < beta n0 (Koshizuka and Oka; docs/method.md);
  *   neighbour_count  that, or fewer neighbours within re_density than
  *                    beta_count N0 (N0 those of a lattice particle): the
  *                    count sees a hole beside a particle that a close

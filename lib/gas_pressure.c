@@ -1,4 +1,4 @@
-/* The light fluid's pressure (METHOD.md section 2, step 2): one PPE over the
+/* The light fluid's pressure (docs/method.md section 2, step 2): one PPE over the
  * light particles with every other non-dummy particle (liquid, joined light
  * particles, walls) a fixed wall of gas density: it carries a pressure
  * unknown with the gas's density in its source, and it is not moved by the

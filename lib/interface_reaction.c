@@ -1,4 +1,4 @@
-/* The paper's improved model (METHOD.md section 3): the 8-sector scan that
+/* The paper's improved model (docs/method.md section 3): the 8-sector scan that
  * sets delta_al per light particle, and the reaction of a triggered light
  * particle on the liquid.
  *

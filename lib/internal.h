@@ -105,8 +105,8 @@ enum effect_id {
     EFFECT_GRAVITY,
     EFFECT_VISCOSITY,
     EFFECT_COLLISION,
-    EFFECT_TWO_PHASE,          /* two-step pressure, liquid and gas (METHOD.md 2) */
-    EFFECT_INTERFACE_REACTION, /* gas acting back on the liquid (METHOD.md 3); needs two_phase */
+    EFFECT_TWO_PHASE,          /* two-step pressure, liquid and gas (docs/method.md 2) */
+    EFFECT_INTERFACE_REACTION, /* gas acting back on the liquid (docs/method.md 3); needs two_phase */
     EFFECT_TURBULENCE,         /* Smagorinsky eddy viscosity; only when requested */
     EFFECT_EXCITATION,         /* horizontal base excitation (a shaken tank) */
     EFFECT_COUNT
@@ -347,7 +347,7 @@ enum stage_id {
 
 /* ---- two phases (phases.c, interface_reaction.c, gas_pressure.c) ---- */
 
-/* State of the two-step pressure (METHOD.md sections 2-3). Allocated by
+/* State of the two-step pressure (docs/method.md sections 2-3). Allocated by
  * plan_build only when effect two_phase is on (a scene with a light fluid:
  * density below light_fraction of the heaviest, and two_phase_model not
  * "single"); a single-phase solver never holds one. */

@@ -1,4 +1,4 @@
-/* The MPS particle operators (METHOD.md section 1), at one particle. */
+/* The MPS particle operators (docs/method.md section 1), at one particle. */
 #include "internal.h"
 
 #include <math.h>

@@ -126,7 +126,7 @@ static const scheme_entry schemes[] = {
      * does not grow as dt shrinks, a gravity limit on dt */
     {"corrected", GRADIENT_CORRECTED, PPE_SOURCE_ECS, WALL_GHOSTS_HYDROSTATIC, 3.1, 0.995, 0.03,
      0.03},
-    /* Koshizuka and Oka (1996), as METHOD.md restates it: the paper's scheme */
+    /* Koshizuka and Oka (1996), as docs/method.md restates it: the paper's scheme */
     {"koshizuka1996", GRADIENT_MINIMUM, PPE_SOURCE_DENSITY, WALL_GHOSTS_NONE, 4.0, 0.5, 0.0, 0.0},
 };
 #define SCHEME_COUNT (sizeof schemes / sizeof schemes[0])

@@ -1,4 +1,4 @@
-/* Two phases of very different density (METHOD.md sections 2-3), the
+/* Two phases of very different density (docs/method.md sections 2-3), the
  * stages of effect two_phase: the liquid's own number density, the liquid
  * PPE, the state's pressure per phase, the correction per phase and the
  * gas's divergence check.
@@ -342,7 +342,7 @@ void phases_correct(mps2p_solver *s, double dt)
     }
 }
 
-/* The gas's own failure (METHOD.md section 2): a gas particle squeezed by
+/* The gas's own failure (docs/method.md section 2): a gas particle squeezed by
  * the liquid reaches a gas pressure far above any hydrostatic or dynamic
  * value. Reported with its place and how enclosed it was. */
 int phases_divergence_check(mps2p_solver *s, double dt)

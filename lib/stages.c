@@ -225,10 +225,10 @@ static const stage_entry stages[STAGE_COUNT] = {
                                     run_gas_divergence_check},
 };
 
-/* One MPS step (METHOD.md section 1, fig. 1 of the paper), in order. The
+/* One MPS step (docs/method.md section 1, fig. 1 of the paper), in order. The
  * neighbour list is brought up to date after each stage that moves particles.
  * Host-moved walls move first, so that viscosity sees their velocity. With
- * two phases (METHOD.md 2-3) the liquid's own n^k is taken at the start, and
+ * two phases (docs/method.md 2-3) the liquid's own n^k is taken at the start, and
  * the free surface, PPE and correction are replaced by the sector scan, the
  * liquid then the gas PPE and a correction per phase; the gas's own check
  * runs before the general one (its message says more about a squeezed gas

@@ -1,4 +1,4 @@
-/* The paper's case with air (METHOD.md section 4) under the conventional
+/* The paper's case with air (docs/method.md section 4) under the conventional
  * two-step model: an air particle wrapped by water is squeezed, and the run
  * must stop with MPS2P_ERR_DIVERGED (time, place and reason in the message)
  * before t = 1.5 s, keeping the last good state. The time itself is chaotic

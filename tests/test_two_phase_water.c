@@ -1,4 +1,4 @@
-/* The conventional model (two_step, METHOD.md section 2) leaves the water
+/* The conventional model (two_step, docs/method.md section 2) leaves the water
  * alone: the liquid PPE, viscosity and collisions ignore the air, so until
  * the air diverges the water is bit for bit the water-only run of the same
  * tank (docs/two-phase.md). Guards the two-phase stages' masks. */
