@@ -276,9 +276,15 @@ typedef int (*mps2p_progress_fn)(const mps2p_solver *solver, void *user_data);
 /* Steps until the time reaches end_time exactly: each step is the remaining
  * time divided evenly into steps no longer than the chosen dt, so the run
  * lands on end_time without one short step (a short step biases the pressure
- * read there, which scales with 1/dt^2). Returns MPS2P_OK, MPS2P_STOPPED
- * when the callback asked to stop, or the error of the failing step.
- * progress may be NULL. */
+ * read there, which scales with 1/dt^2). Every step of such a division is
+ * longer than dt / 2. A window shorter than dt / 2 is one step of its
+ * length, whose pressure Poisson equation is solved as for a step of dt / 2
+ * (a tiny step solved with its own dt would press the whole density error
+ * out at once, with a pressure growing as 1/dt^2: a false divergence); its
+ * velocity and position corrections are those of its own length. A rest
+ * within 1e-12 max(1, |end_time|) s is not stepped; the time is set to
+ * end_time. Returns MPS2P_OK, MPS2P_STOPPED when the callback asked to stop,
+ * or the error of the failing step. progress may be NULL. */
 MPS2P_API int mps2p_solver_advance_to(mps2p_solver *solver, double end_time,
                                       mps2p_progress_fn progress, void *user_data);
 

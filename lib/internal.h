@@ -57,6 +57,9 @@ static inline int team_size(double threads)
 #define REDUCTION_BLOCK 1024
 
 #define ERROR_MESSAGE_SIZE 512
+/* A step of mps2p_solver_advance_to shorter than this fraction of the chosen
+ * dt solves its pressure as one of this fraction (pressure.c, solver.c). */
+#define PPE_MIN_STEP_FRACTION 0.5
 #define FLUID_NAME_SIZE 64
 
 /* ---- errors (errors.c) ---- */
@@ -453,6 +456,10 @@ struct mps2p_solver {
     double n0_density, n0_laplacian, lambda;
     double domain[4];
     double dt_max, pressure_limit;
+    /* Shortest dt the pressure Poisson equation of the current step may see
+     * (pressure.c): 0, or PPE_MIN_STEP_FRACTION of the chosen dt in a step
+     * of mps2p_solver_advance_to shorter than that. */
+    double ppe_min_dt;
 
     struct two_phase *phases; /* allocated only when effect two_phase is on */
 

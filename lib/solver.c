@@ -338,15 +338,18 @@ static void restore_state(mps2p_solver *s)
         phases_put_carried(s, s->phases->before_step);
 }
 
-/* One step of length dt: the plan of stages (stages.c), rolled back on failure. */
-static int step_with(mps2p_solver *s, double dt)
+/* One step of length dt: the plan of stages (stages.c), rolled back on
+ * failure. ppe_min_dt: the shortest dt its pressure solve may see (0 = dt). */
+static int step_with(mps2p_solver *s, double dt, double ppe_min_dt)
 {
     if (s->diverged)
         return fail(s->error, MPS2P_ERR_STATE,
                     "the solver diverged at t = %.6g s; it keeps its last good state but "
                     "cannot step further", s->time);
     save_state(s);
+    s->ppe_min_dt = ppe_min_dt;
     int status = plan_run(s, dt);
+    s->ppe_min_dt = 0.0;
     if (status == MPS2P_ERR_DIVERGED)
         s->diverged = 1;
     if (status != MPS2P_OK) {
@@ -363,7 +366,7 @@ int mps2p_solver_step(mps2p_solver *s)
 {
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_step: solver is NULL");
-    return step_with(s, timestep_choose(s));
+    return step_with(s, timestep_choose(s), 0.0);
 }
 
 int mps2p_solver_advance_to(mps2p_solver *s, double end_time, mps2p_progress_fn progress,
@@ -384,8 +387,13 @@ int mps2p_solver_advance_to(mps2p_solver *s, double end_time, mps2p_progress_fn 
          * last step would bias the pressure read at end_time. */
         double steps_left = ceil(remaining / dt * (1.0 - 1e-9));
         int last = steps_left <= 1.0;
+        /* Every step of an even division is longer than dt / 2; only a window
+         * shorter than that ends in a shorter one, whose pressure solve then
+         * sees dt / 2 (PPE_MIN_STEP_FRACTION; pressure.c says why). */
+        double ppe_min_dt = last && remaining < PPE_MIN_STEP_FRACTION * dt
+                                ? PPE_MIN_STEP_FRACTION * dt : 0.0;
         dt = last ? remaining : remaining / steps_left;
-        int status = step_with(s, dt);
+        int status = step_with(s, dt, ppe_min_dt);
         if (status != MPS2P_OK)
             return status;
         if (last)
@@ -393,5 +401,8 @@ int mps2p_solver_advance_to(mps2p_solver *s, double end_time, mps2p_progress_fn 
         if (progress && progress(s, user_data))
             return MPS2P_STOPPED;
     }
+    /* A rest within the tolerance (rounding, or a window of 1e-12 s) is not
+     * a step; the time still lands on end_time, as promised. */
+    s->time = end_time;
     return MPS2P_OK;
 }
