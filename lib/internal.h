@@ -184,7 +184,9 @@ enum { SOLID_FROM_BOX = 3 }; /* scene-only kind, classified at solver creation *
 struct mps2p_scene {
     double l0;
     params params;
-    fluid *fluids;
+    /* One allocation per fluid: only the pointer array moves when it grows,
+     * so the names mps2p_scene_get_fluid hands out stay valid (issue 20). */
+    fluid **fluids;
     int fluid_count, fluid_capacity;
     size_t count, capacity;
     double *position;  /* 2 * count */

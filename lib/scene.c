@@ -35,6 +35,8 @@ void mps2p_scene_destroy(mps2p_scene *scene)
 {
     if (!scene)
         return;
+    for (int f = 0; f < scene->fluid_count; f++)
+        free(scene->fluids[f]);
     free(scene->fluids);
     free(scene->position);
     free(scene->velocity);
@@ -67,18 +69,20 @@ int mps2p_scene_add_fluid(mps2p_scene *scene, const char *name, double density,
                     "kinematic viscosity of fluid \"%s\" must be >= 0 and finite, got %g",
                     name, kinematic_viscosity);
     for (int i = 0; i < scene->fluid_count; i++)
-        if (strcmp(scene->fluids[i].name, name) == 0)
+        if (strcmp(scene->fluids[i]->name, name) == 0)
             return fail(scene->error, MPS2P_ERR_INVALID, "fluid \"%s\" already exists", name);
     if (scene->fluid_count == scene->fluid_capacity) {
         int capacity = scene->fluid_capacity ? 2 * scene->fluid_capacity : 4;
-        fluid *grown = realloc(scene->fluids, (size_t)capacity * sizeof *grown);
+        fluid **grown = realloc(scene->fluids, (size_t)capacity * sizeof *grown);
         if (!grown)
             return fail(scene->error, MPS2P_ERR_NOMEM, "out of memory adding a fluid");
         scene->fluids = grown;
         scene->fluid_capacity = capacity;
     }
-    fluid *f = &scene->fluids[scene->fluid_count];
-    memset(f, 0, sizeof *f);
+    fluid *f = calloc(1, sizeof *f);
+    if (!f)
+        return fail(scene->error, MPS2P_ERR_NOMEM, "out of memory adding a fluid");
+    scene->fluids[scene->fluid_count] = f;
     strcpy(f->name, name);
     f->density = density;
     f->viscosity = kinematic_viscosity;
@@ -104,7 +108,7 @@ int mps2p_scene_get_fluid(const mps2p_scene *scene, int fluid_id, const char **n
     if (fluid_id < 0 || fluid_id >= scene->fluid_count)
         return fail(NULL, MPS2P_ERR_INVALID, "no fluid with id %d (the scene has %d)",
                     fluid_id, scene->fluid_count);
-    const fluid *f = &scene->fluids[fluid_id];
+    const fluid *f = scene->fluids[fluid_id];
     if (name)
         *name = f->name;
     if (density)

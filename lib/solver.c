@@ -239,7 +239,8 @@ static int build(mps2p_solver *s, const mps2p_scene *scene)
     int status = solver_allocate(s, n, scene->fluid_count);
     if (status != MPS2P_OK)
         return status;
-    memcpy(s->fluids, scene->fluids, (size_t)scene->fluid_count * sizeof *s->fluids);
+    for (int f = 0; f < scene->fluid_count; f++)
+        s->fluids[f] = *scene->fluids[f];
     memcpy(s->state.position, scene->position, 2 * n * sizeof *s->state.position);
     memcpy(s->state.velocity, scene->velocity, 2 * n * sizeof *s->state.velocity);
     memcpy(s->kind, scene->kind, n * sizeof *s->kind);

@@ -11,6 +11,28 @@
               "%s: message \"%s\" lacks \"%s\"", #call, mps2p_last_error(), fragment); \
     } while (0)
 
+/* A fluid's name from mps2p_scene_get_fluid stays valid while the scene
+ * lives (issue 20: adding fluids realloc'ed the array under it, a
+ * heap-use-after-free). */
+static void test_fluid_names_stay_valid(void)
+{
+    mps2p_scene *scene;
+    const char *first = NULL, *fifth = NULL;
+    char name[16];
+    MUST(mps2p_scene_create(0.01, &scene));
+    MUST(mps2p_scene_add_fluid(scene, "water", 1000, 1e-6, NULL));
+    MUST(mps2p_scene_get_fluid(scene, 0, &first, NULL, NULL));
+    for (int f = 1; f < 40; f++) {
+        snprintf(name, sizeof name, "fluid-%d", f);
+        MUST(mps2p_scene_add_fluid(scene, name, 1000 - f, 1e-6, NULL));
+        if (f == 4)
+            MUST(mps2p_scene_get_fluid(scene, 4, &fifth, NULL, NULL));
+    }
+    CHECK(strcmp(first, "water") == 0, "first fluid's name reads \"%.15s\"", first);
+    CHECK(strcmp(fifth, "fluid-4") == 0, "fifth fluid's name reads \"%.15s\"", fifth);
+    mps2p_scene_destroy(scene);
+}
+
 int main(void)
 {
     mps2p_scene *scene = NULL;
@@ -203,5 +225,7 @@ int main(void)
     EXPECT(mps2p_solver_create(scene, &solver), MPS2P_ERR_INVALID, "too large");
     CHECK(solver == NULL, "no solver on failure");
     mps2p_scene_destroy(scene);
+
+    test_fluid_names_stay_valid();
     return check_summary("test_api_errors");
 }
