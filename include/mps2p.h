@@ -262,6 +262,8 @@ typedef struct mps2p_solver mps2p_solver;
  * destroyed). Fails on a scene without fluid particles, on particles closer
  * than 0.1 l0 to each other, and on inconsistent parameters. */
 MPS2P_API int mps2p_solver_create(const mps2p_scene *scene, mps2p_solver **solver);
+/* From the solver's own progress callback: freed when the run returns
+ * (see mps2p_progress_fn). */
 MPS2P_API void mps2p_solver_destroy(mps2p_solver *solver);
 MPS2P_API const char *mps2p_solver_last_error(const mps2p_solver *solver);
 
@@ -270,7 +272,16 @@ MPS2P_API const char *mps2p_solver_last_error(const mps2p_solver *solver);
  * position and time. Once diverged, further steps return MPS2P_ERR_STATE. */
 MPS2P_API int mps2p_solver_step(mps2p_solver *solver);
 
-/* Called after each step; return non-zero to stop the run. */
+/* Called after each step; return non-zero to stop the run. From inside it,
+ * the calls that step the same solver or replace its state
+ * (mps2p_solver_step, _advance_to, _advance_window, _restore_state) return
+ * MPS2P_ERR_STATE and change nothing; queries, checkpoints, results and the
+ * inputs of section 7 (gravity, body motions, forces: they apply from the
+ * next step) work. mps2p_solver_destroy of that solver from inside does not
+ * free it at once: the run stops after the callback, the solver is freed
+ * when mps2p_solver_advance_to returns, and that returns MPS2P_ERR_STATE
+ * ("destroyed") - the caller must not use the solver afterwards. Other
+ * solvers may be used freely. */
 typedef int (*mps2p_progress_fn)(const mps2p_solver *solver, void *user_data);
 
 /* Steps until the time reaches end_time exactly: each step is the remaining

@@ -479,6 +479,10 @@ struct mps2p_solver {
     double ppe_residual;
     int diverged;
     long diverged_particle; /* the particle a divergence was found at; -1 none */
+    /* Inside mps2p_solver_advance_to, whose progress callback may call back
+     * into this solver: stepping or restoring it is refused there, and
+     * mps2p_solver_destroy only sets destroy_requested (solver.c). */
+    int running, destroy_requested;
     char error[ERROR_MESSAGE_SIZE];
 
     /* turbulence (turbulence.c): allocated only when the effect is on */
@@ -509,6 +513,11 @@ int plan_build(mps2p_solver *s);
 int plan_run(mps2p_solver *s, double dt);
 /* Bytes the solver holds: its arrays, lists, matrix and solver workspace. */
 size_t solver_memory_bytes(const mps2p_solver *s);                  /* memory.c */
+
+/* MPS2P_ERR_STATE with a message naming function when s is inside
+ * mps2p_solver_advance_to (called from its progress callback), else
+ * MPS2P_OK (solver.c). */
+int solver_refuse_if_running(mps2p_solver *s, const char *function);
 
 /* Allocates every per-particle array of a zeroed solver (solver.c); the
  * checkpoint loader fills them instead of a scene. */

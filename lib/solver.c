@@ -22,10 +22,8 @@ static int alloc_state(particle_state *st, size_t n)
     return st->position && st->velocity && st->pressure ? MPS2P_OK : MPS2P_ERR_NOMEM;
 }
 
-void mps2p_solver_destroy(mps2p_solver *s)
+static void solver_free(mps2p_solver *s)
 {
-    if (!s)
-        return;
     free(s->fluids);
     free(s->kind);
     free(s->fluid_id);
@@ -50,6 +48,29 @@ void mps2p_solver_destroy(mps2p_solver *s)
     coupling_free(s->coupling);
     phases_free(s->phases);
     free(s);
+}
+
+void mps2p_solver_destroy(mps2p_solver *s)
+{
+    if (!s)
+        return;
+    /* From the solver's own progress callback: its run still uses it, so it
+     * is freed when mps2p_solver_advance_to returns (issue 20). */
+    if (s->running) {
+        s->destroy_requested = 1;
+        return;
+    }
+    solver_free(s);
+}
+
+int solver_refuse_if_running(mps2p_solver *s, const char *function)
+{
+    if (!s->running)
+        return MPS2P_OK;
+    return fail(s->error, MPS2P_ERR_STATE,
+                "%s: the solver is inside mps2p_solver_advance_to (this is its progress "
+                "callback); return non-zero from the callback to stop the run first",
+                function);
 }
 
 const char *mps2p_solver_last_error(const mps2p_solver *s)
@@ -367,18 +388,16 @@ int mps2p_solver_step(mps2p_solver *s)
 {
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_step: solver is NULL");
+    int status = solver_refuse_if_running(s, "mps2p_solver_step");
+    if (status != MPS2P_OK)
+        return status;
     return step_with(s, timestep_choose(s), 0.0);
 }
 
-int mps2p_solver_advance_to(mps2p_solver *s, double end_time, mps2p_progress_fn progress,
-                            void *user_data)
+/* The steps of mps2p_solver_advance_to, with s->running set. */
+static int advance(mps2p_solver *s, double end_time, mps2p_progress_fn progress,
+                   void *user_data)
 {
-    if (!s)
-        return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_advance_to: solver is NULL");
-    if (!isfinite(end_time) || end_time < s->time)
-        return fail(s->error, MPS2P_ERR_INVALID,
-                    "end time must be finite and not before the current time %.9g s, got %g",
-                    s->time, end_time);
     const double tolerance = 1e-12 * fmax(1.0, fabs(end_time));
     while (end_time - s->time > tolerance) {
         double dt = timestep_choose(s);
@@ -399,11 +418,35 @@ int mps2p_solver_advance_to(mps2p_solver *s, double end_time, mps2p_progress_fn 
             return status;
         if (last)
             s->time = end_time; /* land exactly, without rounding drift */
-        if (progress && progress(s, user_data))
+        if (progress && (progress(s, user_data) || s->destroy_requested))
             return MPS2P_STOPPED;
     }
     /* A rest within the tolerance (rounding, or a window of 1e-12 s) is not
      * a step; the time still lands on end_time, as promised. */
     s->time = end_time;
     return MPS2P_OK;
+}
+
+int mps2p_solver_advance_to(mps2p_solver *s, double end_time, mps2p_progress_fn progress,
+                            void *user_data)
+{
+    if (!s)
+        return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_advance_to: solver is NULL");
+    int status = solver_refuse_if_running(s, "mps2p_solver_advance_to");
+    if (status != MPS2P_OK)
+        return status;
+    if (!isfinite(end_time) || end_time < s->time)
+        return fail(s->error, MPS2P_ERR_INVALID,
+                    "end time must be finite and not before the current time %.9g s, got %g",
+                    s->time, end_time);
+    s->running = 1;
+    status = advance(s, end_time, progress, user_data);
+    s->running = 0;
+    if (s->destroy_requested) {
+        solver_free(s);
+        return fail(NULL, MPS2P_ERR_STATE,
+                    "mps2p_solver_advance_to: the progress callback destroyed the solver; the "
+                    "run stopped after that callback, and the solver is freed now");
+    }
+    return status;
 }

@@ -193,6 +193,9 @@ int mps2p_solver_restore_state(mps2p_solver *s, const mps2p_state *st)
 {
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_restore_state: solver is NULL");
+    int refused = solver_refuse_if_running(s, "mps2p_solver_restore_state");
+    if (refused != MPS2P_OK)
+        return refused;
     if (!st)
         return fail(s->error, MPS2P_ERR_NULL, "mps2p_solver_restore_state: state is NULL");
     if (!same_shape(s, st))
