@@ -171,6 +171,18 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *                                 0 = OpenMP's default (OMP_NUM_THREADS); per
  *                                 solver; the results are the same bits for any
  *                                 count (docs/performance.md)
+ *   memory_limit            0     bytes a scene or a solver may take (bytes);
+ *                                 0 = the memory the system gives the process:
+ *                                 physical memory, or less under RLIMIT_AS,
+ *                                 RLIMIT_DATA or a cgroup limit. Checked before
+ *                                 allocating, against 44 bytes a particle for a
+ *                                 scene (when it grows) and an estimate of a
+ *                                 solver (its arrays and the neighbour lists of a
+ *                                 filled lattice, about 850 bytes a particle with
+ *                                 the defaults) at creation and checkpoint loading:
+ *                                 MPS2P_ERR_NOMEM beyond it. (With the kernel's
+ *                                 overcommit, malloc of too much succeeds and the
+ *                                 process is killed later, while writing.)
  * mps2p_param_info() lists them at run time. */
 MPS2P_API int mps2p_scene_set_param(mps2p_scene *scene, const char *key, double value);
 MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
@@ -294,8 +306,12 @@ typedef int (*mps2p_progress_fn)(const mps2p_solver *solver, void *user_data);
  * out at once, with a pressure growing as 1/dt^2: a false divergence); its
  * velocity and position corrections are those of its own length. A rest
  * within 1e-12 max(1, |end_time|) s is not stepped; the time is set to
- * end_time. Returns MPS2P_OK, MPS2P_STOPPED when the callback asked to stop,
- * or the error of the failing step. progress may be NULL. */
+ * end_time. A window that would take more than 1e9 steps at the chosen dt
+ * (checked before each step; e.g. a viscosity of 1e20 m^2/s gives dt 1e-24
+ * s) is refused with MPS2P_ERR_INVALID, naming the bound that sets dt; the
+ * solver keeps the state of its last step. Returns MPS2P_OK, MPS2P_STOPPED
+ * when the callback asked to stop, or the error of the failing step.
+ * progress may be NULL. */
 MPS2P_API int mps2p_solver_advance_to(mps2p_solver *solver, double end_time,
                                       mps2p_progress_fn progress, void *user_data);
 

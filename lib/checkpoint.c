@@ -671,6 +671,11 @@ static int load(h5_context *ctx, hid_t file, mps2p_solver **out)
                      file_fluids);
         goto done;
     }
+    char what[96];
+    snprintf(what, sizeof what, "loading a solver of %zu particles", count);
+    status = memory_check(&s->params, solver_bytes_estimate(&s->params, count), what, NULL);
+    if (status != MPS2P_OK)
+        goto done;
     status = solver_allocate(s, count, fluids);
     built_at = malloc(2 * count * sizeof *built_at);
     if (status != MPS2P_OK || !built_at) {

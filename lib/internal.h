@@ -157,6 +157,7 @@ typedef struct params {
     int effect_mode[EFFECT_COUNT];
     double smagorinsky_constant;
     double beta_count;
+    double memory_limit;       /* bytes a scene or a solver may take; 0 = memory_available */
 } params;
 
 void params_set_defaults(params *p);
@@ -513,6 +514,20 @@ int plan_build(mps2p_solver *s);
 int plan_run(mps2p_solver *s, double dt);
 /* Bytes the solver holds: its arrays, lists, matrix and solver workspace. */
 size_t solver_memory_bytes(const mps2p_solver *s);                  /* memory.c */
+/* Bytes this process can have: physical memory, or less under RLIMIT_AS,
+ * RLIMIT_DATA or a cgroup memory limit (read at each call: nothing kept). */
+double memory_available(void);                                      /* memory.c */
+/* Parameter memory_limit, or memory_available() when it is 0. */
+double memory_limit_bytes(const params *p);
+/* Bytes a scene holds per particle (its five arrays). */
+size_t scene_bytes_per_particle(void);
+/* Bytes a solver of n particles takes at least: its per-particle arrays
+ * and the neighbour lists of a filled lattice (the pressure matrix and the
+ * solver's factor come on top). */
+double solver_bytes_estimate(const params *p, size_t n);
+/* MPS2P_OK when bytes fit memory_limit_bytes(p), else MPS2P_ERR_NOMEM with a
+ * message naming what (e.g. "a scene of 9e8 particles") and the limit. */
+int memory_check(const params *p, double bytes, const char *what, char *handle_error);
 
 /* MPS2P_ERR_STATE with a message naming function when s is inside
  * mps2p_solver_advance_to (called from its progress callback), else
@@ -574,6 +589,10 @@ void laplacian_at(const mps2p_solver *s, size_t i, const double *field, size_t c
 
 /* ---- stages, in the order of a step ---- */
 double timestep_choose(const mps2p_solver *s);                   /* timestep.c */
+/* Which bound sets timestep_choose's dt, in words, for messages. */
+void timestep_explain(const mps2p_solver *s, char *out, size_t size);
+/* mps2p_solver_advance_to refuses a window that would take more steps. */
+#define MAX_STEPS_PER_ADVANCE 1e9
 void viscosity_apply(mps2p_solver *s, double dt);                 /* explicit_forces.c */
 void gravity_apply(mps2p_solver *s, double dt);                   /* explicit_forces.c */
 void excitation_apply(mps2p_solver *s, double dt);                /* explicit_forces.c */

@@ -3,6 +3,7 @@
 
 #include <limits.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -128,9 +129,18 @@ static int reserve(mps2p_scene *scene, size_t extra)
     size_t needed = scene->count + extra;
     if (needed <= scene->capacity)
         return MPS2P_OK;
+    const double per_particle = (double)scene_bytes_per_particle();
+    char what[64];
+    snprintf(what, sizeof what, "a scene of %zu particles", needed);
+    int status = memory_check(&scene->params, (double)needed * per_particle, what, scene->error);
+    if (status != MPS2P_OK)
+        return status;
     size_t capacity = scene->capacity ? scene->capacity : 256;
     while (capacity < needed)
         capacity *= 2;
+    /* doubling past the limit: exactly what is needed instead */
+    if ((double)capacity * per_particle > memory_limit_bytes(&scene->params))
+        capacity = needed;
     double *position = realloc(scene->position, 2 * capacity * sizeof *position);
     if (position)
         scene->position = position;

@@ -2,6 +2,7 @@
 #include "internal.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -327,11 +328,17 @@ int mps2p_solver_create(const mps2p_scene *scene, mps2p_solver **solver)
                             scene->domain[3]);
         }
     }
+    char what[64];
+    snprintf(what, sizeof what, "a solver of %zu particles", scene->count);
+    int status = memory_check(&scene->params, solver_bytes_estimate(&scene->params, scene->count),
+                              what, NULL);
+    if (status != MPS2P_OK)
+        return status;
     mps2p_solver *s = calloc(1, sizeof *s);
     if (!s)
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory creating a solver");
     s->diverged_particle = -1;
-    int status = build(s, scene);
+    status = build(s, scene);
     if (status == MPS2P_OK)
         status = check_spacing(s);
     if (status != MPS2P_OK) {
@@ -406,6 +413,15 @@ static int advance(mps2p_solver *s, double end_time, mps2p_progress_fn progress,
          * the pressure scales with 1/dt^2 times the density error, so a short
          * last step would bias the pressure read at end_time. */
         double steps_left = ceil(remaining / dt * (1.0 - 1e-9));
+        if (!(steps_left <= MAX_STEPS_PER_ADVANCE)) {
+            /* a viscosity of 1e20 m^2/s gives dt = 1e-24 s: it would never end */
+            char why[160];
+            timestep_explain(s, why, sizeof why);
+            return fail(s->error, MPS2P_ERR_INVALID,
+                        "advancing %g s to t = %.9g s at dt = %g s would take %.3g steps, "
+                        "more than %g; the step is set by %s", remaining, end_time, dt,
+                        steps_left, MAX_STEPS_PER_ADVANCE, why);
+        }
         int last = steps_left <= 1.0;
         /* Every step of an even division is longer than dt / 2; only a window
          * shorter than that ends in a shorter one, whose pressure solve then
