@@ -420,16 +420,25 @@ MPS2P_API const char *mps2p_results_last_error(const mps2p_results *results);
  * effect two_phase on, the two-phase state that carries into the next step:
  * join weights, joined flags, the liquid's initial number density, the liquid
  * and gas pressures) to path, atomically: it is
- * written to "<path>.tmp", flushed to disk and renamed over path. */
+ * written to "<path>.tmp", flushed to disk and renamed over path. Format 4:
+ * an HDF5 file whose 512-byte user block holds a CRC-64 of the whole file
+ * (docs/results-files.md). */
 MPS2P_API int mps2p_solver_save_checkpoint(const mps2p_solver *solver, const char *path);
 
 /* Rebuilds a solver from a checkpoint. Stepping it gives bitwise the results
  * the saved solver would have given (same library build). Refuses, with
- * MPS2P_ERR_IO: a missing or unreadable file, a file that is not a libmps2p
- * checkpoint, a newer format version, datasets of the wrong shape or type,
- * inconsistent contents (kinds, fluid ids, parameters out of range), a
- * two-phase state missing or out of range where the fluids and parameters
- * make two phases, or present where they make one. */
+ * MPS2P_ERR_IO: a missing or unreadable file, anything but a regular file
+ * (a FIFO, a directory), a file that is not a libmps2p checkpoint, a
+ * damaged one (checksum, length: checked on the raw bytes before HDF5 reads
+ * the file), a newer format version, datasets of the wrong shape or type,
+ * contents mps2p_solver_create would not give (kinds, fluid ids, parameters
+ * out of range, a negative time or number density, particles outside the
+ * domain, n0 or lambda that do not follow from l0, densities that are not
+ * their fluid's; the message names the field), a two-phase state missing or
+ * out of range where the fluids and parameters make two phases, or present
+ * where they make one. Files of format 3 and older (no checksum) load
+ * unchecked. An empty path is MPS2P_ERR_INVALID; a solver beyond the file's
+ * memory_limit MPS2P_ERR_NOMEM. */
 MPS2P_API int mps2p_solver_load_checkpoint(const char *path, mps2p_solver **solver);
 
 /* Samples the particles at count points (points: x0, y0, x1, y1, ...), with
