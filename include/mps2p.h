@@ -17,7 +17,8 @@
  *     success, a negative MPS2P_ERR_* code on failure; the codes never change;
  *   - on failure, mps2p_last_error() holds a message for the calling thread,
  *     and a non-const call on a handle also keeps it on the handle
- *     (mps2p_scene_last_error, mps2p_solver_last_error);
+ *     (mps2p_scene_last_error, mps2p_solver_last_error: the last failure on
+ *     that handle); on success mps2p_last_error() is "";
  *   - handles are opaque; destroy functions accept NULL;
  *   - arrays are copied into caller buffers whose length (in elements) is
  *     passed explicitly; vectors are interleaved (x0, y0, x1, y1, ...);
@@ -75,8 +76,11 @@ enum {
 /* Name of a status code, e.g. "MPS2P_ERR_INVALID"; never NULL. */
 MPS2P_API const char *mps2p_status_string(int status);
 
-/* Message of the calling thread's last failed call ("" if none); valid until
- * the next failing call in this thread. */
+/* Message of the calling thread's last call that returns a status: why it
+ * failed, or "" when it succeeded. Functions that return no status (the
+ * destroy functions, mps2p_*_last_error, mps2p_status_string, the version
+ * functions) leave it as it is. Valid until the next such call in this
+ * thread. */
 MPS2P_API const char *mps2p_last_error(void);
 
 /* ---------------------------------------------------------------------------
@@ -110,7 +114,10 @@ MPS2P_API int mps2p_scene_get_fluid(const mps2p_scene *scene, int fluid_id,
 
 /* Fills the box [x0,x1] x [y0,y1] with fluid particles on the square lattice
  * of spacing l0, at cell centres x0 + (i + 1/2) l0. A side that is not a
- * whole number of l0 is rounded down to one. */
+ * whole number of l0 is rounded down to one. Coordinates (here and in every
+ * function that adds particles) must lie within 1e9 l0 of the origin, where
+ * a double still resolves 2.2e-7 l0 (MPS2P_ERR_INVALID beyond: lattice
+ * sites would merge). */
 MPS2P_API int mps2p_scene_add_fluid_box(mps2p_scene *scene, int fluid_id,
                                         double x0, double y0, double x1, double y1);
 
@@ -123,13 +130,16 @@ MPS2P_API int mps2p_scene_add_wall_box(mps2p_scene *scene,
 /* Walls around the inner region [x0,x1] x [y0,y1]: left, right and bottom,
  * and top unless open_top is non-zero. The walls are ceil(max radius / l0)
  * layers thick for the radii set when this is called (set radii first): the
- * layer facing the inside is MPS2P_KIND_WALL, the layers behind it dummies. */
+ * layer facing the inside is MPS2P_KIND_WALL, the layers behind it dummies.
+ * Only the walls count against the particle cap and memory_limit. */
 MPS2P_API int mps2p_scene_add_tank(mps2p_scene *scene, double x0, double y0,
                                    double x1, double y1, int open_top);
 
 /* Adds count particles from caller arrays: positions (2*count), velocities
  * (2*count, or NULL for rest), kinds (count, MPS2P_KIND_*), fluid_ids (count;
- * read only for fluid particles; may be NULL if no particle is fluid). */
+ * read only for fluid particles; may be NULL if no particle is fluid). count
+ * is checked against the particle cap and memory_limit before the arrays are
+ * read. */
 MPS2P_API int mps2p_scene_add_particles(mps2p_scene *scene, size_t count,
                                         const double *positions,
                                         const double *velocities,

@@ -260,6 +260,7 @@ static int write_two_phase(h5_context *ctx, hid_t file, const mps2p_solver *s)
 
 int mps2p_solver_save_checkpoint(const mps2p_solver *s, const char *path)
 {
+    error_clear();
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_save_checkpoint: solver is NULL");
     if (!path)
@@ -502,6 +503,11 @@ static int check_particles(h5_context *ctx, const mps2p_solver *s)
         fluid_particles += fluid;
         const double x = s->state.position[2 * i], y = s->state.position[2 * i + 1];
         const double *d = s->domain;
+        if (fabs(x) > COORDINATE_LIMIT_L0 * s->l0 || fabs(y) > COORDINATE_LIMIT_L0 * s->l0) {
+            h5_note_text(ctx, "particle %zu at (%g, %g) is beyond %g l0 of the origin (a "
+                         "scene refuses such coordinates)", i, x, y, COORDINATE_LIMIT_L0);
+            return -1;
+        }
         if (x < d[0] || x > d[2] || y < d[1] || y > d[3]) {
             h5_note_text(ctx, "particle %zu at (%g, %g) is outside attribute domain [%g, %g] x "
                          "[%g, %g]", i, x, y, d[0], d[2], d[1], d[3]);
@@ -819,6 +825,7 @@ done:
 
 int mps2p_solver_load_checkpoint(const char *path, mps2p_solver **solver)
 {
+    error_clear();
     if (!solver)
         return fail(NULL, MPS2P_ERR_NULL,
                     "mps2p_solver_load_checkpoint: solver output pointer is NULL");

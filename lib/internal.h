@@ -57,6 +57,10 @@ static inline int team_size(double threads)
 #define REDUCTION_BLOCK 1024
 
 #define ERROR_MESSAGE_SIZE 512
+/* Particle coordinates must lie within this many l0 of the origin: there a
+ * double still resolves 2.2e-7 l0, so boxes keep every lattice site (at
+ * 1e11 m a 0.02 m lattice lost particles to rounding). */
+#define COORDINATE_LIMIT_L0 1e9
 /* A step of mps2p_solver_advance_to shorter than this fraction of the chosen
  * dt solves its pressure as one of this fraction (pressure.c, solver.c). */
 #define PPE_MIN_STEP_FRACTION 0.5
@@ -68,6 +72,9 @@ static inline int team_size(double threads)
  * non-NULL, into the handle's too; returns status. */
 int fail(char *handle_buffer, int status, const char *format, ...)
     __attribute__((format(printf, 3, 4)));
+/* Empties the thread's last error: every public function that returns a
+ * status calls it first, so a success leaves "" (one thread-local store). */
+void error_clear(void);
 
 /* ---- parameters (params.c) ---- */
 
@@ -201,6 +208,13 @@ struct mps2p_scene {
     double domain[4];  /* xmin, ymin, xmax, ymax */
     char error[ERROR_MESSAGE_SIZE];
 };
+
+/* MPS2P_ERR_INVALID (message naming what) when x or y lies beyond
+ * COORDINATE_LIMIT_L0 l0 of the origin (scene.c; the checkpoint loader too). */
+int coordinates_check(double l0, double x, double y, const char *what, char *handle_error);
+/* Room for extra more particles in a scene: the particle cap and the memory
+ * limit, checked without allocating (scene.c). */
+int scene_check_room(mps2p_scene *scene, size_t extra);
 
 /* ---- kernel and reference lattice (kernel.c) ---- */
 

@@ -274,6 +274,7 @@ double params_max_radius(const params *p)
 int mps2p_param_info(size_t index, const char **key, const char **description,
                      double *default_value)
 {
+    error_clear();
     if (index >= TABLE_SIZE)
         return fail(NULL, MPS2P_ERR_INVALID, "parameter index %zu is past the last (%zu)",
                     index, TABLE_SIZE - 1);

@@ -305,6 +305,7 @@ static int build(mps2p_solver *s, const mps2p_scene *scene)
 
 int mps2p_solver_create(const mps2p_scene *scene, mps2p_solver **solver)
 {
+    error_clear();
     if (!solver)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_create: solver output pointer is NULL");
     *solver = NULL;
@@ -393,6 +394,7 @@ static int step_with(mps2p_solver *s, double dt, double ppe_min_dt)
 
 int mps2p_solver_step(mps2p_solver *s)
 {
+    error_clear();
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_step: solver is NULL");
     int status = solver_refuse_if_running(s, "mps2p_solver_step");
@@ -446,6 +448,7 @@ static int advance(mps2p_solver *s, double end_time, mps2p_progress_fn progress,
 int mps2p_solver_advance_to(mps2p_solver *s, double end_time, mps2p_progress_fn progress,
                             void *user_data)
 {
+    error_clear();
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_advance_to: solver is NULL");
     int status = solver_refuse_if_running(s, "mps2p_solver_advance_to");
@@ -464,5 +467,7 @@ int mps2p_solver_advance_to(mps2p_solver *s, double end_time, mps2p_progress_fn 
                     "mps2p_solver_advance_to: the progress callback destroyed the solver; the "
                     "run stopped after that callback, and the solver is freed now");
     }
+    if (status >= 0)
+        error_clear(); /* a failure inside the callback is not this call's */
     return status;
 }

@@ -4,6 +4,7 @@
 
 int mps2p_solver_advance_window(mps2p_solver *s, double end_time, uint64_t *steps_taken)
 {
+    error_clear();
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_advance_window: solver is NULL");
     if (steps_taken)
