@@ -118,8 +118,9 @@ def mutated_scene(fdp):
             if fdp.ConsumeBool():
                 entry = document.setdefault("parameters", {})
         value = fuzzed_value(fdp)
-        if key == "box" and fdp.ConsumeBool():
-            value = [fuzzed_value(fdp) if fdp.ConsumeBool() else v for v in entry.get(key, [0] * 4)]
+        old = entry.get(key)
+        if isinstance(old, list) and fdp.ConsumeBool():  # some corners of a box
+            value = [fuzzed_value(fdp) if fdp.ConsumeBool() else v for v in old]
         entry[key] = value
     try:
         return toml_text(document).encode("utf-8")
@@ -153,6 +154,9 @@ def test_one_input(data):
 
 def main():
     args = sys.argv[1:]
+    if not any(a.startswith("-artifact_prefix=") for a in args):
+        crashes = tempfile.mkdtemp(prefix="mps2p-fuzz-scenefile-crashes-")
+        args.append("-artifact_prefix=%s/" % crashes)
     corpus_dirs = [a for a in args if not a.startswith("-")]
     seeds = os.path.join(HERE, "corpus", "scenefile")
     work = None
