@@ -17,7 +17,8 @@
  *     success, a negative MPS2P_ERR_* code on failure; the codes never change;
  *   - on failure, mps2p_last_error() holds a message for the calling thread,
  *     and a non-const call on a handle also keeps it on the handle
- *     (mps2p_scene_last_error, mps2p_solver_last_error);
+ *     (mps2p_scene_last_error, mps2p_solver_last_error: the last failure on
+ *     that handle); on success mps2p_last_error() is "";
  *   - handles are opaque; destroy functions accept NULL;
  *   - arrays are copied into caller buffers whose length (in elements) is
  *     passed explicitly; vectors are interleaved (x0, y0, x1, y1, ...);
@@ -75,8 +76,11 @@ enum {
 /* Name of a status code, e.g. "MPS2P_ERR_INVALID"; never NULL. */
 MPS2P_API const char *mps2p_status_string(int status);
 
-/* Message of the calling thread's last failed call ("" if none); valid until
- * the next failing call in this thread. */
+/* Message of the calling thread's last call that returns a status: why it
+ * failed, or "" when it succeeded. Functions that return no status (the
+ * destroy functions, mps2p_*_last_error, mps2p_status_string, the version
+ * functions) leave it as it is. Valid until the next such call in this
+ * thread. */
 MPS2P_API const char *mps2p_last_error(void);
 
 /* ---------------------------------------------------------------------------
@@ -110,7 +114,10 @@ MPS2P_API int mps2p_scene_get_fluid(const mps2p_scene *scene, int fluid_id,
 
 /* Fills the box [x0,x1] x [y0,y1] with fluid particles on the square lattice
  * of spacing l0, at cell centres x0 + (i + 1/2) l0. A side that is not a
- * whole number of l0 is rounded down to one. */
+ * whole number of l0 is rounded down to one. Coordinates (here and in every
+ * function that adds particles) must lie within 1e9 l0 of the origin, where
+ * a double still resolves 2.2e-7 l0 (MPS2P_ERR_INVALID beyond: lattice
+ * sites would merge). */
 MPS2P_API int mps2p_scene_add_fluid_box(mps2p_scene *scene, int fluid_id,
                                         double x0, double y0, double x1, double y1);
 
@@ -123,13 +130,16 @@ MPS2P_API int mps2p_scene_add_wall_box(mps2p_scene *scene,
 /* Walls around the inner region [x0,x1] x [y0,y1]: left, right and bottom,
  * and top unless open_top is non-zero. The walls are ceil(max radius / l0)
  * layers thick for the radii set when this is called (set radii first): the
- * layer facing the inside is MPS2P_KIND_WALL, the layers behind it dummies. */
+ * layer facing the inside is MPS2P_KIND_WALL, the layers behind it dummies.
+ * Only the walls count against the particle cap and memory_limit. */
 MPS2P_API int mps2p_scene_add_tank(mps2p_scene *scene, double x0, double y0,
                                    double x1, double y1, int open_top);
 
 /* Adds count particles from caller arrays: positions (2*count), velocities
  * (2*count, or NULL for rest), kinds (count, MPS2P_KIND_*), fluid_ids (count;
- * read only for fluid particles; may be NULL if no particle is fluid). */
+ * read only for fluid particles; may be NULL if no particle is fluid). count
+ * is checked against the particle cap and memory_limit before the arrays are
+ * read. */
 MPS2P_API int mps2p_scene_add_particles(mps2p_scene *scene, size_t count,
                                         const double *positions,
                                         const double *velocities,
@@ -179,6 +189,18 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *                                 0 = OpenMP's default (OMP_NUM_THREADS); per
  *                                 solver; the results are the same bits for any
  *                                 count (docs/performance.md)
+ *   memory_limit            0     bytes a scene or a solver may take (bytes);
+ *                                 0 = the memory the system gives the process:
+ *                                 physical memory, or less under RLIMIT_AS,
+ *                                 RLIMIT_DATA or a cgroup limit. Checked before
+ *                                 allocating, against 44 bytes a particle for a
+ *                                 scene (when it grows) and an estimate of a
+ *                                 solver (its arrays and the neighbour lists of a
+ *                                 filled lattice, about 850 bytes a particle with
+ *                                 the defaults) at creation and checkpoint loading:
+ *                                 MPS2P_ERR_NOMEM beyond it. (With the kernel's
+ *                                 overcommit, malloc of too much succeeds and the
+ *                                 process is killed later, while writing.)
  * mps2p_param_info() lists them at run time. */
 MPS2P_API int mps2p_scene_set_param(mps2p_scene *scene, const char *key, double value);
 MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
@@ -280,6 +302,8 @@ typedef struct mps2p_solver mps2p_solver;
  * destroyed). Fails on a scene without fluid particles, on particles closer
  * than 0.1 l0 to each other, and on inconsistent parameters. */
 MPS2P_API int mps2p_solver_create(const mps2p_scene *scene, mps2p_solver **solver);
+/* From the solver's own progress callback: freed when the run returns
+ * (see mps2p_progress_fn). */
 MPS2P_API void mps2p_solver_destroy(mps2p_solver *solver);
 MPS2P_API const char *mps2p_solver_last_error(const mps2p_solver *solver);
 
@@ -288,13 +312,32 @@ MPS2P_API const char *mps2p_solver_last_error(const mps2p_solver *solver);
  * position and time. Once diverged, further steps return MPS2P_ERR_STATE. */
 MPS2P_API int mps2p_solver_step(mps2p_solver *solver);
 
-/* Called after each step; return non-zero to stop the run. */
+/* Called after each step; return non-zero to stop the run. From inside it,
+ * the calls that step the same solver or replace its state
+ * (mps2p_solver_step, _advance_to, _advance_window, _restore_state) return
+ * MPS2P_ERR_STATE and change nothing; queries, checkpoints, results and the
+ * inputs of section 7 (gravity, body motions, forces: they apply from the
+ * next step) work. mps2p_solver_destroy of that solver from inside does not
+ * free it at once: the run stops after the callback, the solver is freed
+ * when mps2p_solver_advance_to returns, and that returns MPS2P_ERR_STATE
+ * ("destroyed") - the caller must not use the solver afterwards. Other
+ * solvers may be used freely. */
 typedef int (*mps2p_progress_fn)(const mps2p_solver *solver, void *user_data);
 
 /* Steps until the time reaches end_time exactly: each step is the remaining
  * time divided evenly into steps no longer than the chosen dt, so the run
  * lands on end_time without one short step (a short step biases the pressure
- * read there, which scales with 1/dt^2). Returns MPS2P_OK, MPS2P_STOPPED
+ * read there, which scales with 1/dt^2). Every step of such a division is
+ * longer than dt / 2. A window shorter than dt / 2 is one step of its
+ * length, whose pressure Poisson equation is solved as for a step of dt / 2
+ * (a tiny step solved with its own dt would press the whole density error
+ * out at once, with a pressure growing as 1/dt^2: a false divergence); its
+ * velocity and position corrections are those of its own length. A rest
+ * within 1e-12 max(1, |end_time|) s is not stepped; the time is set to
+ * end_time. A window that would take more than 1e9 steps at the chosen dt
+ * (checked before each step; e.g. a viscosity of 1e20 m^2/s gives dt 1e-24
+ * s) is refused with MPS2P_ERR_INVALID, naming the bound that sets dt; the
+ * solver keeps the state of its last step. Returns MPS2P_OK, MPS2P_STOPPED
  * when the callback asked to stop, or the error of the failing step.
  * progress may be NULL. */
 MPS2P_API int mps2p_solver_advance_to(mps2p_solver *solver, double end_time,
@@ -405,16 +448,25 @@ MPS2P_API const char *mps2p_results_last_error(const mps2p_results *results);
  * effect two_phase on, the two-phase state that carries into the next step:
  * join weights, joined flags, the liquid's initial number density, the liquid
  * and gas pressures) to path, atomically: it is
- * written to "<path>.tmp", flushed to disk and renamed over path. */
+ * written to "<path>.tmp", flushed to disk and renamed over path. Format 4:
+ * an HDF5 file whose 512-byte user block holds a CRC-64 of the whole file
+ * (docs/results-files.md). */
 MPS2P_API int mps2p_solver_save_checkpoint(const mps2p_solver *solver, const char *path);
 
 /* Rebuilds a solver from a checkpoint. Stepping it gives bitwise the results
  * the saved solver would have given (same library build). Refuses, with
- * MPS2P_ERR_IO: a missing or unreadable file, a file that is not a libmps2p
- * checkpoint, a newer format version, datasets of the wrong shape or type,
- * inconsistent contents (kinds, fluid ids, parameters out of range), a
- * two-phase state missing or out of range where the fluids and parameters
- * make two phases, or present where they make one. */
+ * MPS2P_ERR_IO: a missing or unreadable file, anything but a regular file
+ * (a FIFO, a directory), a file that is not a libmps2p checkpoint, a
+ * damaged one (checksum, length: checked on the raw bytes before HDF5 reads
+ * the file), a newer format version, datasets of the wrong shape or type,
+ * contents mps2p_solver_create would not give (kinds, fluid ids, parameters
+ * out of range, a negative time or number density, particles outside the
+ * domain, n0 or lambda that do not follow from l0, densities that are not
+ * their fluid's; the message names the field), a two-phase state missing or
+ * out of range where the fluids and parameters make two phases, or present
+ * where they make one. Files of format 3 and older (no checksum) load
+ * unchecked. An empty path is MPS2P_ERR_INVALID; a solver beyond the file's
+ * memory_limit MPS2P_ERR_NOMEM. */
 MPS2P_API int mps2p_solver_load_checkpoint(const char *path, mps2p_solver **solver);
 
 /* Samples the particles at count points (points: x0, y0, x1, y1, ...), with

@@ -62,6 +62,7 @@ static void commit_body(mps2p_scene *scene, int id, const char *name, int *body_
 int mps2p_scene_add_body_box(mps2p_scene *scene, const char *name, double x0, double y0,
                              double x1, double y1, int *body_id)
 {
+    error_clear();
     if (!scene)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_scene_add_body_box: scene is NULL");
     int status = check_name(scene, name);
@@ -83,6 +84,7 @@ int mps2p_scene_add_body_box(mps2p_scene *scene, const char *name, double x0, do
 int mps2p_scene_add_body_particles(mps2p_scene *scene, const char *name, size_t count,
                                    const double *positions, const int *kinds, int *body_id)
 {
+    error_clear();
     if (!scene)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_scene_add_body_particles: scene is NULL");
     int status = check_name(scene, name);
@@ -92,6 +94,9 @@ int mps2p_scene_add_body_particles(mps2p_scene *scene, const char *name, size_t 
         return status;
     if (count > 0 && !kinds)
         return fail(scene->error, MPS2P_ERR_NULL, "kinds must not be NULL");
+    status = scene_check_room(scene, count); /* before reading the arrays */
+    if (status != MPS2P_OK)
+        return status;
     for (size_t i = 0; i < count; i++)
         if (kinds[i] != MPS2P_KIND_WALL && kinds[i] != MPS2P_KIND_DUMMY)
             return fail(scene->error, MPS2P_ERR_INVALID,
@@ -111,6 +116,7 @@ int mps2p_scene_add_body_particles(mps2p_scene *scene, const char *name, size_t 
 int mps2p_scene_assign_body(mps2p_scene *scene, const char *name, double x0, double y0,
                             double x1, double y1, int *body_id)
 {
+    error_clear();
     if (!scene)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_scene_assign_body: scene is NULL");
     int status = check_name(scene, name);
@@ -142,6 +148,7 @@ int mps2p_scene_assign_body(mps2p_scene *scene, const char *name, double x0, dou
 
 int mps2p_scene_body_count(const mps2p_scene *scene, int *count)
 {
+    error_clear();
     if (!scene || !count)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_scene_body_count: %s is NULL",
                     scene ? "count" : "scene");
@@ -226,6 +233,7 @@ static int check_body(const mps2p_solver *s, int body_id, const char *function)
 
 int mps2p_solver_body_count(const mps2p_solver *s, int *count)
 {
+    error_clear();
     if (!s || !count)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_body_count: %s is NULL",
                     s ? "count" : "solver");
@@ -236,6 +244,7 @@ int mps2p_solver_body_count(const mps2p_solver *s, int *count)
 int mps2p_solver_get_body(const mps2p_solver *s, int body_id, const char **name,
                           size_t *particles)
 {
+    error_clear();
     int status = check_body(s, body_id, "mps2p_solver_get_body");
     if (status != MPS2P_OK)
         return status;
@@ -248,6 +257,7 @@ int mps2p_solver_get_body(const mps2p_solver *s, int body_id, const char **name,
 
 int mps2p_solver_get_body_ids(const mps2p_solver *s, int *out, size_t length)
 {
+    error_clear();
     if (!s || !out)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_get_body_ids: %s is NULL",
                     s ? "output pointer" : "solver");
@@ -349,6 +359,7 @@ static int wall_force(const mps2p_solver *s, size_t i, int fluid_id, double f[2]
 int mps2p_solver_body_force(const mps2p_solver *s, int body_id, int fluid_id, double force[2],
                             double *moment, const double about[2])
 {
+    error_clear();
     int status = check_body(s, body_id, "mps2p_solver_body_force");
     if (status != MPS2P_OK)
         return status;

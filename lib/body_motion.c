@@ -96,6 +96,7 @@ static int check_solver_body(mps2p_solver *s, int body_id, const char *function)
 int mps2p_solver_set_body_motion(mps2p_solver *s, int body_id, const double velocity[2],
                                  double angular_velocity, const double about[2])
 {
+    error_clear();
     int status = check_solver_body(s, body_id, "mps2p_solver_set_body_motion");
     if (status != MPS2P_OK)
         return status;
@@ -123,6 +124,7 @@ int mps2p_solver_set_body_motion(mps2p_solver *s, int body_id, const double velo
 int mps2p_solver_set_body_positions(mps2p_solver *s, int body_id, const double *positions,
                                     size_t length)
 {
+    error_clear();
     int status = check_solver_body(s, body_id, "mps2p_solver_set_body_positions");
     if (status != MPS2P_OK)
         return status;

@@ -3,9 +3,11 @@
  * Derived values (n0, lambda, dt_max, pressure_limit, domain) are stored,
  * not recomputed: dt_max and pressure_limit come from the initial state,
  * which a checkpoint no longer has. Layout in docs/results-files.md. */
+#define _POSIX_C_SOURCE 200809L
 #include "coupling.h"
 #include "hdf5_io.h"
 #include "files.h"
+#include "checkpoint_seal.h"
 
 #include <limits.h>
 #include <math.h>
@@ -19,7 +21,12 @@
  * body 0 and no inputs, as they were written. 3 added group "two_phase",
  * written by a two-phase solver only; versions 1 and 2 were never written by
  * one (refused then), so a file of theirs that makes one is refused. */
-#define CHECKPOINT_FORMAT_VERSION 3
+#define CHECKPOINT_FORMAT_VERSION 4
+/* 4: the same contents after a checksum header, the HDF5 user block
+ * (checkpoint_seal.h), checked before HDF5 reads a byte. Files without it
+ * (format 3 and older) are read unchecked, as before; a file without it
+ * claiming format 4 or later is refused. */
+#define LAST_UNSEALED_VERSION 3
 /* as in scene.c: the pressure matrix uses int indices */
 #define MAX_PARTICLES ((size_t)INT_MAX / 2)
 
@@ -253,6 +260,7 @@ static int write_two_phase(h5_context *ctx, hid_t file, const mps2p_solver *s)
 
 int mps2p_solver_save_checkpoint(const mps2p_solver *s, const char *path)
 {
+    error_clear();
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_save_checkpoint: solver is NULL");
     if (!path)
@@ -268,7 +276,11 @@ int mps2p_solver_save_checkpoint(const mps2p_solver *s, const char *path)
     h5_enter(&guard);
     h5_context_init(&ctx, "checkpoint", path);
     int status = MPS2P_OK;
-    hid_t file = H5Fcreate(temporary, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t create = H5Pcreate(H5P_FILE_CREATE), file = -1;
+    if (create >= 0 && H5Pset_userblock(create, CHECKPOINT_HEADER_SIZE) >= 0)
+        file = H5Fcreate(temporary, H5F_ACC_TRUNC, create, H5P_DEFAULT);
+    if (create >= 0)
+        H5Pclose(create);
     if (file < 0) {
         h5_note(&ctx);
         status = h5_fail(&ctx, NULL, "cannot create the temporary file \"%s\"", temporary);
@@ -287,6 +299,9 @@ int mps2p_solver_save_checkpoint(const mps2p_solver *s, const char *path)
     }
     h5_leave(&guard);
     char reason[256] = "";
+    if (status == MPS2P_OK && checkpoint_seal(temporary, reason, sizeof reason) != 0)
+        status = fail(NULL, MPS2P_ERR_IO, "checkpoint \"%s\": cannot write the checksum into "
+                      "\"%s\": %s", path, temporary, reason);
     if (status == MPS2P_OK && file_replace(temporary, path, reason, sizeof reason) != 0)
         status = fail(NULL, MPS2P_ERR_IO, "checkpoint \"%s\": cannot move \"%s\" over it: %s",
                       path, temporary, reason);
@@ -298,7 +313,7 @@ int mps2p_solver_save_checkpoint(const mps2p_solver *s, const char *path)
 
 /* ---- loading ---- */
 
-static int read_header(h5_context *ctx, hid_t file, int *file_version)
+static int read_header(h5_context *ctx, hid_t file, int sealed, int *file_version)
 {
     char format[64];
     int version = 0;
@@ -322,6 +337,11 @@ static int read_header(h5_context *ctx, hid_t file, int *file_version)
                      mps2p_version_string(), CHECKPOINT_FORMAT_VERSION);
         return -1;
     }
+    if (!sealed && version > LAST_UNSEALED_VERSION) {
+        h5_note_text(ctx, "damaged: format version %d has a checksum header, this file has "
+                     "none", version);
+        return -1;
+    }
     *file_version = version;
     return 0;
 }
@@ -343,21 +363,38 @@ static int read_root(h5_context *ctx, hid_t file, mps2p_solver *s, size_t *count
         h5_read_attribute(ctx, file, "ppe_iterations", H5T_NATIVE_UINT64, 1, &iterations) != 0 ||
         h5_read_attribute(ctx, file, "surface_particles", H5T_NATIVE_UINT64, 1, &surface) != 0)
         return -1;
-    int sane = isfinite(s->l0) && s->l0 > 0.0 && isfinite(s->time) && isfinite(s->last_dt) &&
-               s->last_dt >= 0.0 && s->n0_density > 0.0 && s->n0_laplacian > 0.0 &&
-               s->lambda > 0.0 && isfinite(s->dt_max) && s->dt_max > 0.0 &&
-               s->pressure_limit > 0.0 && (s->diverged == 0 || s->diverged == 1) &&
-               particles > 0 && particles <= MAX_PARTICLES && unknowns <= particles &&
-               surface <= particles;
+    /* each value in the range mps2p_solver_create would give it; the first
+     * one out of range is named */
+    const struct { const char *name; int ok; double value; } checks[] = {
+        {"l0", isfinite(s->l0) && s->l0 > 0.0, s->l0},
+        {"time", isfinite(s->time) && s->time >= 0.0, s->time},
+        {"last_dt", isfinite(s->last_dt) && s->last_dt >= 0.0, s->last_dt},
+        {"n0_density", isfinite(s->n0_density) && s->n0_density > 0.0, s->n0_density},
+        {"n0_laplacian", isfinite(s->n0_laplacian) && s->n0_laplacian > 0.0, s->n0_laplacian},
+        {"lambda", isfinite(s->lambda) && s->lambda > 0.0, s->lambda},
+        {"dt_max", isfinite(s->dt_max) && s->dt_max > 0.0, s->dt_max},
+        {"pressure_limit", isfinite(s->pressure_limit) && s->pressure_limit > 0.0,
+         s->pressure_limit},
+        {"ppe_residual", isfinite(s->ppe_residual) && s->ppe_residual >= 0.0, s->ppe_residual},
+        {"diverged", s->diverged == 0 || s->diverged == 1, s->diverged},
+        {"particle_count", particles > 0 && particles <= MAX_PARTICLES, (double)particles},
+        {"ppe_unknowns", unknowns <= particles, (double)unknowns},
+        {"surface_particles", surface <= particles, (double)surface},
+    };
+    for (size_t k = 0; k < sizeof checks / sizeof checks[0]; k++)
+        if (!checks[k].ok) {
+            h5_note_text(ctx, "attribute %s is %g, out of range", checks[k].name,
+                         checks[k].value);
+            return -1;
+        }
+    int sane = 1;
     for (int d = 0; d < 4; d++)
         sane = sane && isfinite(s->domain[d]);
     sane = sane && s->domain[2] > s->domain[0] && s->domain[3] > s->domain[1] &&
            isfinite(s->domain[2] - s->domain[0]) && isfinite(s->domain[3] - s->domain[1]);
     if (!sane) {
-        h5_note_text(ctx, "inconsistent run values (l0 %g, time %g, last dt %g, dt_max %g, "
-                     "%llu particles, domain [%g, %g] x [%g, %g])", s->l0, s->time, s->last_dt,
-                     s->dt_max, (unsigned long long)particles, s->domain[0], s->domain[2],
-                     s->domain[1], s->domain[3]);
+        h5_note_text(ctx, "attribute domain [%g, %g] x [%g, %g] is not a box of finite width "
+                     "and height", s->domain[0], s->domain[2], s->domain[1], s->domain[3]);
         return -1;
     }
     *count = (size_t)particles;
@@ -400,9 +437,53 @@ static int read_particles(h5_context *ctx, hid_t file, mps2p_solver *s)
     return status;
 }
 
-/* Values the stages index with or divide by must be in range. */
+/* n0 and lambda follow from l0 and the radii (as mps2p_solver_create
+ * computes them); a stored l0 they do not fit (1e300, say) is refused.
+ * Relative 1e-9: another build may round the sums differently. */
+static int check_lattice(h5_context *ctx, const mps2p_solver *s)
+{
+    double n0_density, n0_laplacian, lambda, unused;
+    lattice_constants(s->l0, s->params.re_density, &n0_density, &unused);
+    lattice_constants(s->l0, s->params.re_laplacian, &n0_laplacian, &lambda);
+    const struct { const char *name; double stored, expected; } values[] = {
+        {"n0_density", s->n0_density, n0_density},
+        {"n0_laplacian", s->n0_laplacian, n0_laplacian},
+        {"lambda", s->lambda, lambda},
+    };
+    for (size_t k = 0; k < 3; k++) {
+        double stored = values[k].stored, expected = values[k].expected;
+        if (!(isfinite(expected) && fabs(stored - expected) <= 1e-9 * fabs(expected))) {
+            h5_note_text(ctx, "attribute %s is %.17g, but l0 = %g and the radii give %.17g "
+                         "(l0 or %s damaged)", values[k].name, stored, s->l0, expected,
+                         values[k].name);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* The fluids as mps2p_scene_add_fluid accepts them: names unique too. */
+static int check_fluids(h5_context *ctx, const mps2p_solver *s)
+{
+    for (int f = 0; f < s->fluid_count; f++)
+        for (int g = 0; g < f; g++)
+            if (strcmp(s->fluids[f].name, s->fluids[g].name) == 0) {
+                h5_note_text(ctx, "fluids %d and %d are both named \"%s\"", g, f,
+                             s->fluids[f].name);
+                return -1;
+            }
+    return 0;
+}
+
+/* Values the stages index with or divide by must be in range, and every
+ * particle as mps2p_solver_create would have it: inside the domain, with
+ * its fluid's density and viscosity (walls: the heaviest fluid's, and 0). */
 static int check_particles(h5_context *ctx, const mps2p_solver *s)
 {
+    double heaviest = 0.0;
+    size_t fluid_particles = 0;
+    for (int f = 0; f < s->fluid_count; f++)
+        heaviest = fmax(heaviest, s->fluids[f].density);
     for (size_t i = 0; i < s->count; i++) {
         int kind = s->kind[i], id = s->fluid_id[i];
         int fluid = kind == MPS2P_KIND_FLUID;
@@ -419,6 +500,36 @@ static int check_particles(h5_context *ctx, const mps2p_solver *s)
                          s->state.position[2 * i + 1], s->density[i]);
             return -1;
         }
+        fluid_particles += fluid;
+        const double x = s->state.position[2 * i], y = s->state.position[2 * i + 1];
+        const double *d = s->domain;
+        if (fabs(x) > COORDINATE_LIMIT_L0 * s->l0 || fabs(y) > COORDINATE_LIMIT_L0 * s->l0) {
+            h5_note_text(ctx, "particle %zu at (%g, %g) is beyond %g l0 of the origin (a "
+                         "scene refuses such coordinates)", i, x, y, COORDINATE_LIMIT_L0);
+            return -1;
+        }
+        if (x < d[0] || x > d[2] || y < d[1] || y > d[3]) {
+            h5_note_text(ctx, "particle %zu at (%g, %g) is outside attribute domain [%g, %g] x "
+                         "[%g, %g]", i, x, y, d[0], d[2], d[1], d[3]);
+            return -1;
+        }
+        const double density = fluid ? s->fluids[id].density : heaviest;
+        const double viscosity = fluid ? s->fluids[id].viscosity : 0.0;
+        if (s->density[i] != density || s->viscosity[i] != viscosity) {
+            h5_note_text(ctx, "particles/density or viscosity of particle %zu (%g, %g) is not "
+                         "its %s's (%g, %g)", i, s->density[i], s->viscosity[i],
+                         fluid ? "fluid" : "wall, the heaviest fluid", density, viscosity);
+            return -1;
+        }
+        if (s->number_density[i] < 0.0) {
+            h5_note_text(ctx, "particles/number_density of particle %zu is %g, below 0", i,
+                         s->number_density[i]);
+            return -1;
+        }
+    }
+    if (fluid_particles == 0) {
+        h5_note_text(ctx, "it holds no fluid particle");
+        return -1;
     }
     return 0;
 }
@@ -650,7 +761,7 @@ static int read_two_phase(h5_context *ctx, hid_t file, mps2p_solver *s, int vers
 
 /* Reads the open file into a new solver; MPS2P_ERR_IO (detail noted) or
  * MPS2P_ERR_NOMEM on failure, with *out left NULL. */
-static int load(h5_context *ctx, hid_t file, mps2p_solver **out)
+static int load(h5_context *ctx, hid_t file, int sealed, mps2p_solver **out)
 {
     mps2p_solver *s = calloc(1, sizeof *s);
     if (!s)
@@ -660,7 +771,7 @@ static int load(h5_context *ctx, hid_t file, mps2p_solver **out)
     int fluids = 0, version = 0, status = MPS2P_ERR_IO;
     double *built_at = NULL;
     uint64_t builds = 0;
-    if (read_header(ctx, file, &version) != 0 || read_root(ctx, file, s, &count, &fluids) != 0 ||
+    if (read_header(ctx, file, sealed, &version) != 0 || read_root(ctx, file, s, &count, &fluids) != 0 ||
         h5_read_parameters(ctx, file, &s->params) != 0)
         goto done;
     int file_fluids = 0;
@@ -671,6 +782,12 @@ static int load(h5_context *ctx, hid_t file, mps2p_solver **out)
                      file_fluids);
         goto done;
     }
+    char what[ERROR_MESSAGE_SIZE / 2];
+    snprintf(what, sizeof what, "checkpoint \"%s\": its solver of %zu particles", ctx->path,
+             count);
+    status = memory_check(&s->params, solver_bytes_estimate(&s->params, count), what, NULL);
+    if (status != MPS2P_OK)
+        goto done;
     status = solver_allocate(s, count, fluids);
     built_at = malloc(2 * count * sizeof *built_at);
     if (status != MPS2P_OK || !built_at) {
@@ -679,7 +796,8 @@ static int load(h5_context *ctx, hid_t file, mps2p_solver **out)
         goto done;
     }
     status = MPS2P_ERR_IO;
-    if (h5_read_fluids(ctx, file, fluids, s->fluids) != 0 || read_particles(ctx, file, s) != 0 ||
+    if (check_lattice(ctx, s) != 0 || h5_read_fluids(ctx, file, fluids, s->fluids) != 0 ||
+        check_fluids(ctx, s) != 0 || read_particles(ctx, file, s) != 0 ||
         check_particles(ctx, s) != 0 || read_neighbours(ctx, file, s, built_at, &builds) != 0 ||
         (version >= 2 && read_bodies(ctx, file, s) != 0))
         goto done;
@@ -707,6 +825,7 @@ done:
 
 int mps2p_solver_load_checkpoint(const char *path, mps2p_solver **solver)
 {
+    error_clear();
     if (!solver)
         return fail(NULL, MPS2P_ERR_NULL,
                     "mps2p_solver_load_checkpoint: solver output pointer is NULL");
@@ -714,24 +833,32 @@ int mps2p_solver_load_checkpoint(const char *path, mps2p_solver **solver)
     if (!path)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_load_checkpoint: path is NULL");
 
+    if (!path[0])
+        return fail(NULL, MPS2P_ERR_INVALID, "mps2p_solver_load_checkpoint: path is empty");
+
+    /* the raw bytes first: HDF5 must not parse a damaged file, nor open a FIFO */
+    struct stat checked;
+    char reason[256] = "";
+    int sealed = checkpoint_verify(path, &checked, reason, sizeof reason);
+    if (sealed < 0)
+        return fail(NULL, MPS2P_ERR_IO, "checkpoint \"%s\": cannot open: %s", path, reason);
     h5_guard guard;
     h5_context ctx;
     h5_enter(&guard);
     h5_context_init(&ctx, "checkpoint", path);
     int status;
-    hid_t file = -1;
-    htri_t is_hdf5 = H5Fis_hdf5(path);
-    if (is_hdf5 <= 0) {
-        if (is_hdf5 < 0)
-            h5_note(&ctx);
-        else
-            h5_note_text(&ctx, "not an HDF5 file");
-        status = h5_fail(&ctx, NULL, "cannot open");
-    } else if ((file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT)) < 0) {
+    int *fd = NULL;
+    hid_t file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (file < 0) {
         h5_note(&ctx);
         status = h5_fail(&ctx, NULL, "cannot open");
+    } else if (H5Fget_vfd_handle(file, H5P_DEFAULT, (void **)&fd) < 0 || !fd ||
+               checkpoint_same_file(*fd, &checked) != 0) {
+        h5_note_text(&ctx, "it changed between its check and its reading");
+        status = h5_fail(&ctx, NULL, "cannot load");
+        H5Fclose(file);
     } else {
-        status = load(&ctx, file, solver);
+        status = load(&ctx, file, sealed == CHECKPOINT_SEALED, solver);
         if (status == MPS2P_ERR_IO)
             status = h5_fail(&ctx, NULL, "cannot load");
         H5Fclose(file);

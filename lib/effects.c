@@ -135,6 +135,7 @@ int effects_decide(mps2p_solver *s)
 
 int mps2p_solver_effect_count(const mps2p_solver *s, size_t *count)
 {
+    error_clear();
     if (!s || !count)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_effect_count: %s is NULL",
                     s ? "count" : "solver");
@@ -145,6 +146,7 @@ int mps2p_solver_effect_count(const mps2p_solver *s, size_t *count)
 int mps2p_solver_get_effect(const mps2p_solver *s, size_t index, const char **name,
                             int *active, const char **reason)
 {
+    error_clear();
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_get_effect: solver is NULL");
     if (index >= EFFECT_COUNT)

@@ -18,6 +18,11 @@ int fail(char *handle_buffer, int status, const char *format, ...)
     return status;
 }
 
+void error_clear(void)
+{
+    thread_error[0] = '\0';
+}
+
 const char *mps2p_last_error(void)
 {
     return thread_error;

@@ -28,6 +28,7 @@ void external_forces_apply(mps2p_solver *s, double dt)
 
 int mps2p_solver_set_gravity(mps2p_solver *s, double gx, double gy)
 {
+    error_clear();
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_set_gravity: solver is NULL");
     if (!isfinite(gx) || !isfinite(gy))
@@ -51,6 +52,7 @@ int mps2p_solver_set_gravity(mps2p_solver *s, double gx, double gy)
 
 int mps2p_solver_get_gravity(const mps2p_solver *s, double gravity[2])
 {
+    error_clear();
     if (!s || !gravity)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_get_gravity: %s is NULL",
                     s ? "gravity output" : "solver");
@@ -61,6 +63,7 @@ int mps2p_solver_get_gravity(const mps2p_solver *s, double gravity[2])
 
 int mps2p_solver_set_body_forces(mps2p_solver *s, const double *accelerations, size_t length)
 {
+    error_clear();
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_set_body_forces: solver is NULL");
     struct coupling *c = s->coupling;

@@ -57,6 +57,13 @@ static inline int team_size(double threads)
 #define REDUCTION_BLOCK 1024
 
 #define ERROR_MESSAGE_SIZE 512
+/* Particle coordinates must lie within this many l0 of the origin: there a
+ * double still resolves 2.2e-7 l0, so boxes keep every lattice site (at
+ * 1e11 m a 0.02 m lattice lost particles to rounding). */
+#define COORDINATE_LIMIT_L0 1e9
+/* A step of mps2p_solver_advance_to shorter than this fraction of the chosen
+ * dt solves its pressure as one of this fraction (pressure.c, solver.c). */
+#define PPE_MIN_STEP_FRACTION 0.5
 #define FLUID_NAME_SIZE 64
 
 /* ---- errors (errors.c) ---- */
@@ -65,6 +72,9 @@ static inline int team_size(double threads)
  * non-NULL, into the handle's too; returns status. */
 int fail(char *handle_buffer, int status, const char *format, ...)
     __attribute__((format(printf, 3, 4)));
+/* Empties the thread's last error: every public function that returns a
+ * status calls it first, so a success leaves "" (one thread-local store). */
+void error_clear(void);
 
 /* ---- parameters (params.c) ---- */
 
@@ -163,6 +173,7 @@ typedef struct params {
     int effect_mode[EFFECT_COUNT];
     double smagorinsky_constant;
     double beta_count;
+    double memory_limit;       /* bytes a scene or a solver may take; 0 = memory_available */
 } params;
 
 void params_set_defaults(params *p);
@@ -190,7 +201,9 @@ enum { SOLID_FROM_BOX = 3 }; /* scene-only kind, classified at solver creation *
 struct mps2p_scene {
     double l0;
     params params;
-    fluid *fluids;
+    /* One allocation per fluid: only the pointer array moves when it grows,
+     * so the names mps2p_scene_get_fluid hands out stay valid (issue 20). */
+    fluid **fluids;
     int fluid_count, fluid_capacity;
     size_t count, capacity;
     double *position;  /* 2 * count */
@@ -204,6 +217,13 @@ struct mps2p_scene {
     double domain[4];  /* xmin, ymin, xmax, ymax */
     char error[ERROR_MESSAGE_SIZE];
 };
+
+/* MPS2P_ERR_INVALID (message naming what) when x or y lies beyond
+ * COORDINATE_LIMIT_L0 l0 of the origin (scene.c; the checkpoint loader too). */
+int coordinates_check(double l0, double x, double y, const char *what, char *handle_error);
+/* Room for extra more particles in a scene: the particle cap and the memory
+ * limit, checked without allocating (scene.c). */
+int scene_check_room(mps2p_scene *scene, size_t extra);
 
 /* ---- kernel and reference lattice (kernel.c) ---- */
 
@@ -462,6 +482,10 @@ struct mps2p_solver {
     double n0_density, n0_laplacian, lambda;
     double domain[4];
     double dt_max, pressure_limit;
+    /* Shortest dt the pressure Poisson equation of the current step may see
+     * (pressure.c): 0, or PPE_MIN_STEP_FRACTION of the chosen dt in a step
+     * of mps2p_solver_advance_to shorter than that. */
+    double ppe_min_dt;
 
     struct two_phase *phases; /* allocated only when effect two_phase is on */
 
@@ -479,6 +503,10 @@ struct mps2p_solver {
     double ppe_residual;
     int diverged;
     long diverged_particle; /* the particle a divergence was found at; -1 none */
+    /* Inside mps2p_solver_advance_to, whose progress callback may call back
+     * into this solver: stepping or restoring it is refused there, and
+     * mps2p_solver_destroy only sets destroy_requested (solver.c). */
+    int running, destroy_requested;
     char error[ERROR_MESSAGE_SIZE];
 
     /* turbulence (turbulence.c): allocated only when the effect is on */
@@ -509,6 +537,25 @@ int plan_build(mps2p_solver *s);
 int plan_run(mps2p_solver *s, double dt);
 /* Bytes the solver holds: its arrays, lists, matrix and solver workspace. */
 size_t solver_memory_bytes(const mps2p_solver *s);                  /* memory.c */
+/* Bytes this process can have: physical memory, or less under RLIMIT_AS,
+ * RLIMIT_DATA or a cgroup memory limit (read at each call: nothing kept). */
+double memory_available(void);                                      /* memory.c */
+/* Parameter memory_limit, or memory_available() when it is 0. */
+double memory_limit_bytes(const params *p);
+/* Bytes a scene holds per particle (its five arrays). */
+size_t scene_bytes_per_particle(void);
+/* Bytes a solver of n particles takes at least: its per-particle arrays
+ * and the neighbour lists of a filled lattice (the pressure matrix and the
+ * solver's factor come on top). */
+double solver_bytes_estimate(const params *p, size_t n);
+/* MPS2P_OK when bytes fit memory_limit_bytes(p), else MPS2P_ERR_NOMEM with a
+ * message naming what (e.g. "a scene of 9e8 particles") and the limit. */
+int memory_check(const params *p, double bytes, const char *what, char *handle_error);
+
+/* MPS2P_ERR_STATE with a message naming function when s is inside
+ * mps2p_solver_advance_to (called from its progress callback), else
+ * MPS2P_OK (solver.c). */
+int solver_refuse_if_running(mps2p_solver *s, const char *function);
 
 /* Allocates every per-particle array of a zeroed solver (solver.c); the
  * checkpoint loader fills them instead of a scene. */
@@ -576,6 +623,10 @@ void laplacian_at(const mps2p_solver *s, size_t i, const double *field, size_t c
 
 /* ---- stages, in the order of a step ---- */
 double timestep_choose(const mps2p_solver *s);                   /* timestep.c */
+/* Which bound sets timestep_choose's dt, in words, for messages. */
+void timestep_explain(const mps2p_solver *s, char *out, size_t size);
+/* mps2p_solver_advance_to refuses a window that would take more steps. */
+#define MAX_STEPS_PER_ADVANCE 1e9
 void viscosity_apply(mps2p_solver *s, double dt);                 /* explicit_forces.c */
 void gravity_apply(mps2p_solver *s, double dt);                   /* explicit_forces.c */
 void excitation_apply(mps2p_solver *s, double dt);                /* explicit_forces.c */

@@ -105,6 +105,11 @@ static const param_entry table[] = {
      "(two_step_improved); 0 = none"},
     {"gas_pressure_limit", FIELD(gas_pressure_limit), 0.0, 0.0, BIG,
      "|gas pressure| above it means diverged (Pa); 0 = 1000 rho_light max(|g| L, 1 m^2/s^2)"},
+    /* checked before allocating: with overcommit, malloc of too much succeeds and the
+     * kernel kills the process later, while the pages are written (issue 20) */
+    {"memory_limit", FIELD(memory_limit), 0.0, 0.0, BIG,
+     "bytes a scene or a solver may take (checked when it grows or is created); 0 = the "
+     "memory the system gives the process (physical, rlimit, cgroup)"},
 };
 
 #define TABLE_SIZE (sizeof table / sizeof table[0])
@@ -349,6 +354,7 @@ double params_max_radius(const params *p)
 int mps2p_param_info(size_t index, const char **key, const char **description,
                      double *default_value)
 {
+    error_clear();
     if (index >= TABLE_SIZE)
         return fail(NULL, MPS2P_ERR_INVALID, "parameter index %zu is past the last (%zu)",
                     index, TABLE_SIZE - 1);

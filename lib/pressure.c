@@ -94,6 +94,11 @@ int pressure_solve(mps2p_solver *s)
 
 int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
 {
+    /* A window's step shorter than half the chosen dt gets the pressure of a
+     * step of half the chosen dt: the source (and the compressibility term)
+     * scale with 1/dt^2, and a tiny step would otherwise press the whole
+     * density error out in no time, with a pressure 1/dt^2 too large. */
+    dt = fmax(dt, s->ppe_min_dt);
     double re = s->params.re_laplacian * s->l0;
     double c = 2.0 * 2 / (s->lambda * s->n0_laplacian);
     if (sys->re_in_l0 > 0.0) { /* a system of its own radius (gas_pressure.c) */

@@ -130,6 +130,7 @@ static probe_sums sample(const probe_grid *g, const mps2p_solver *s, double re,
 int mps2p_solver_probe(const mps2p_solver *s, size_t count, const double *points,
                        double *pressure, double *velocity, int *inside)
 {
+    error_clear();
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_probe: solver is NULL");
     if (count == 0)
@@ -168,6 +169,7 @@ int mps2p_solver_probe(const mps2p_solver *s, size_t count, const double *points
 
 int mps2p_solver_front(const mps2p_solver *s, int fluid_id, double below_y, double *front_x)
 {
+    error_clear();
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_front: solver is NULL");
     if (!front_x)

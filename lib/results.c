@@ -22,6 +22,7 @@ static int check_length(const char *what, size_t length, size_t needed)
 
 int mps2p_solver_particle_count(const mps2p_solver *s, size_t *count)
 {
+    error_clear();
     CHECK_OUTPUT(s, count);
     *count = s->count;
     return MPS2P_OK;
@@ -38,30 +39,35 @@ static int copy_doubles(const char *what, const double *from, size_t n, double *
 
 int mps2p_solver_get_positions(const mps2p_solver *s, double *out, size_t length)
 {
+    error_clear();
     CHECK_OUTPUT(s, out);
     return copy_doubles("positions", s->state.position, 2 * s->count, out, length);
 }
 
 int mps2p_solver_get_velocities(const mps2p_solver *s, double *out, size_t length)
 {
+    error_clear();
     CHECK_OUTPUT(s, out);
     return copy_doubles("velocities", s->state.velocity, 2 * s->count, out, length);
 }
 
 int mps2p_solver_get_pressure(const mps2p_solver *s, double *out, size_t length)
 {
+    error_clear();
     CHECK_OUTPUT(s, out);
     return copy_doubles("pressure", s->state.pressure, s->count, out, length);
 }
 
 int mps2p_solver_get_number_density(const mps2p_solver *s, double *out, size_t length)
 {
+    error_clear();
     CHECK_OUTPUT(s, out);
     return copy_doubles("number density", s->number_density, s->count, out, length);
 }
 
 int mps2p_solver_get_kinds(const mps2p_solver *s, int *out, size_t length)
 {
+    error_clear();
     CHECK_OUTPUT(s, out);
     int status = check_length("kinds", length, s->count);
     if (status == MPS2P_OK)
@@ -71,6 +77,7 @@ int mps2p_solver_get_kinds(const mps2p_solver *s, int *out, size_t length)
 
 int mps2p_solver_get_fluid_ids(const mps2p_solver *s, int *out, size_t length)
 {
+    error_clear();
     CHECK_OUTPUT(s, out);
     int status = check_length("fluid ids", length, s->count);
     if (status == MPS2P_OK)
@@ -80,6 +87,7 @@ int mps2p_solver_get_fluid_ids(const mps2p_solver *s, int *out, size_t length)
 
 int mps2p_solver_get_time(const mps2p_solver *s, double *time)
 {
+    error_clear();
     CHECK_OUTPUT(s, time);
     *time = s->time;
     return MPS2P_OK;
@@ -87,6 +95,7 @@ int mps2p_solver_get_time(const mps2p_solver *s, double *time)
 
 int mps2p_solver_get_step_count(const mps2p_solver *s, uint64_t *steps)
 {
+    error_clear();
     CHECK_OUTPUT(s, steps);
     *steps = s->steps;
     return MPS2P_OK;
@@ -94,6 +103,7 @@ int mps2p_solver_get_step_count(const mps2p_solver *s, uint64_t *steps)
 
 int mps2p_solver_get_last_dt(const mps2p_solver *s, double *dt)
 {
+    error_clear();
     CHECK_OUTPUT(s, dt);
     *dt = s->last_dt;
     return MPS2P_OK;
@@ -154,6 +164,7 @@ static double closest_pair(const mps2p_solver *s)
 
 int mps2p_solver_get_stat(const mps2p_solver *s, const char *key, double *value)
 {
+    error_clear();
     CHECK_OUTPUT(s, value);
     if (!key)
         return fail(NULL, MPS2P_ERR_NULL, "statistic key is NULL");

@@ -115,6 +115,7 @@ static int write_metadata(h5_context *ctx, hid_t file, const mps2p_solver *s,
 int mps2p_results_create(const char *path, const mps2p_solver *solver, const char *scene_text,
                          mps2p_results **results)
 {
+    error_clear();
     if (!results)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_results_create: results output pointer is NULL");
     *results = NULL;
@@ -214,6 +215,7 @@ static int reserve_snapshot(mps2p_results *r)
 
 int mps2p_results_write_snapshot(mps2p_results *r, const mps2p_solver *solver)
 {
+    error_clear();
     if (!r)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_results_write_snapshot: results is NULL");
     if (!solver)
@@ -332,6 +334,7 @@ static int append_row(h5_context *ctx, hid_t dataset, const char *path, const do
 
 int mps2p_results_append_series(mps2p_results *r, const char *name, double time, double value)
 {
+    error_clear();
     if (!r)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_results_append_series: results is NULL");
     if (!name)
@@ -365,6 +368,7 @@ int mps2p_results_append_series(mps2p_results *r, const char *name, double time,
 
 int mps2p_results_close(mps2p_results *r)
 {
+    error_clear();
     if (!r)
         return MPS2P_OK;
     h5_guard guard;

@@ -79,8 +79,10 @@ int h5_read_parameters(h5_context *ctx, hid_t file, params *out)
     const char *key;
     for (size_t i = 0; status == 0 && mps2p_param_info(i, &key, NULL, NULL) == MPS2P_OK; i++) {
         double value = 0.0;
-        /* threads changes no result bit; files from before it lack it */
-        if (strcmp(key, "threads") == 0 && H5Aexists(group, key) == 0)
+        /* threads changes no result bit, memory_limit only what is refused;
+         * files from before them lack them (their defaults) */
+        if ((strcmp(key, "threads") == 0 || strcmp(key, "memory_limit") == 0) &&
+            H5Aexists(group, key) == 0)
             continue;
         /* files from before the corrected scheme: no gravity limit on dt, the
          * collision impulse in full every step */

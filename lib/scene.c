@@ -3,6 +3,7 @@
 
 #include <limits.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -17,6 +18,7 @@
 
 int mps2p_scene_create(double l0, mps2p_scene **scene)
 {
+    error_clear();
     if (!scene)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_scene_create: scene output pointer is NULL");
     *scene = NULL;
@@ -35,6 +37,8 @@ void mps2p_scene_destroy(mps2p_scene *scene)
 {
     if (!scene)
         return;
+    for (int f = 0; f < scene->fluid_count; f++)
+        free(scene->fluids[f]);
     free(scene->fluids);
     free(scene->position);
     free(scene->velocity);
@@ -53,6 +57,7 @@ const char *mps2p_scene_last_error(const mps2p_scene *scene)
 int mps2p_scene_add_fluid(mps2p_scene *scene, const char *name, double density,
                           double kinematic_viscosity, int *fluid_id)
 {
+    error_clear();
     CHECK_SCENE(scene);
     if (!name)
         return fail(scene->error, MPS2P_ERR_NULL, "fluid name is NULL");
@@ -67,18 +72,20 @@ int mps2p_scene_add_fluid(mps2p_scene *scene, const char *name, double density,
                     "kinematic viscosity of fluid \"%s\" must be >= 0 and finite, got %g",
                     name, kinematic_viscosity);
     for (int i = 0; i < scene->fluid_count; i++)
-        if (strcmp(scene->fluids[i].name, name) == 0)
+        if (strcmp(scene->fluids[i]->name, name) == 0)
             return fail(scene->error, MPS2P_ERR_INVALID, "fluid \"%s\" already exists", name);
     if (scene->fluid_count == scene->fluid_capacity) {
         int capacity = scene->fluid_capacity ? 2 * scene->fluid_capacity : 4;
-        fluid *grown = realloc(scene->fluids, (size_t)capacity * sizeof *grown);
+        fluid **grown = realloc(scene->fluids, (size_t)capacity * sizeof *grown);
         if (!grown)
             return fail(scene->error, MPS2P_ERR_NOMEM, "out of memory adding a fluid");
         scene->fluids = grown;
         scene->fluid_capacity = capacity;
     }
-    fluid *f = &scene->fluids[scene->fluid_count];
-    memset(f, 0, sizeof *f);
+    fluid *f = calloc(1, sizeof *f);
+    if (!f)
+        return fail(scene->error, MPS2P_ERR_NOMEM, "out of memory adding a fluid");
+    scene->fluids[scene->fluid_count] = f;
     strcpy(f->name, name);
     f->density = density;
     f->viscosity = kinematic_viscosity;
@@ -90,6 +97,7 @@ int mps2p_scene_add_fluid(mps2p_scene *scene, const char *name, double density,
 
 int mps2p_scene_fluid_count(const mps2p_scene *scene, int *count)
 {
+    error_clear();
     CHECK_SCENE(scene);
     if (!count)
         return fail(NULL, MPS2P_ERR_NULL, "count output pointer is NULL");
@@ -100,11 +108,12 @@ int mps2p_scene_fluid_count(const mps2p_scene *scene, int *count)
 int mps2p_scene_get_fluid(const mps2p_scene *scene, int fluid_id, const char **name,
                           double *density, double *kinematic_viscosity)
 {
+    error_clear();
     CHECK_SCENE(scene);
     if (fluid_id < 0 || fluid_id >= scene->fluid_count)
         return fail(NULL, MPS2P_ERR_INVALID, "no fluid with id %d (the scene has %d)",
                     fluid_id, scene->fluid_count);
-    const fluid *f = &scene->fluids[fluid_id];
+    const fluid *f = scene->fluids[fluid_id];
     if (name)
         *name = f->name;
     if (density)
@@ -114,8 +123,18 @@ int mps2p_scene_get_fluid(const mps2p_scene *scene, int fluid_id, const char **n
     return MPS2P_OK;
 }
 
-/* Makes room for extra particles; all arrays grow together. */
-static int reserve(mps2p_scene *scene, size_t extra)
+int coordinates_check(double l0, double x, double y, const char *what, char *handle_error)
+{
+    const double limit = COORDINATE_LIMIT_L0 * l0;
+    if (fabs(x) <= limit && fabs(y) <= limit)
+        return MPS2P_OK;
+    return fail(handle_error, MPS2P_ERR_INVALID,
+                "%s at (%g, %g) is beyond %g l0 = %g m of the origin: a double there "
+                "resolves less than 2.2e-7 l0 (lattice sites would merge); move the "
+                "origin near the scene", what, x, y, COORDINATE_LIMIT_L0, limit);
+}
+
+int scene_check_room(mps2p_scene *scene, size_t extra)
 {
     if (extra > MAX_PARTICLES || scene->count > MAX_PARTICLES - extra)
         return fail(scene->error, MPS2P_ERR_INVALID,
@@ -124,9 +143,28 @@ static int reserve(mps2p_scene *scene, size_t extra)
     size_t needed = scene->count + extra;
     if (needed <= scene->capacity)
         return MPS2P_OK;
+    char what[64];
+    snprintf(what, sizeof what, "a scene of %zu particles", needed);
+    return memory_check(&scene->params, (double)needed * (double)scene_bytes_per_particle(),
+                        what, scene->error);
+}
+
+/* Makes room for extra particles; all arrays grow together. */
+static int reserve(mps2p_scene *scene, size_t extra)
+{
+    int status = scene_check_room(scene, extra);
+    if (status != MPS2P_OK)
+        return status;
+    size_t needed = scene->count + extra;
+    if (needed <= scene->capacity)
+        return MPS2P_OK;
+    const double per_particle = (double)scene_bytes_per_particle();
     size_t capacity = scene->capacity ? scene->capacity : 256;
     while (capacity < needed)
         capacity *= 2;
+    /* doubling past the limit: exactly what is needed instead */
+    if ((double)capacity * per_particle > memory_limit_bytes(&scene->params))
+        capacity = needed;
     double *position = realloc(scene->position, 2 * capacity * sizeof *position);
     if (position)
         scene->position = position;
@@ -162,7 +200,9 @@ static void append(mps2p_scene *scene, double x, double y, double u, double v,
     scene->body_id[i] = kind == MPS2P_KIND_FLUID ? -1 : 0; /* solids join "walls" */
 }
 
-static int check_box(mps2p_scene *scene, double x0, double y0, double x1, double y1,
+/* A box's lattice: nx x ny cells of l0 (each count at most MAX_PARTICLES;
+ * their product is add_box's to check: a tank's inside holds none). */
+static int box_cells(mps2p_scene *scene, double x0, double y0, double x1, double y1,
                      size_t *nx, size_t *ny)
 {
     if (!isfinite(x0) || !isfinite(y0) || !isfinite(x1) || !isfinite(y1))
@@ -172,6 +212,11 @@ static int check_box(mps2p_scene *scene, double x0, double y0, double x1, double
         return fail(scene->error, MPS2P_ERR_INVALID,
                     "box must have x1 > x0 and y1 > y0, got (%g, %g) to (%g, %g)",
                     x0, y0, x1, y1);
+    int status = coordinates_check(scene->l0, x0, y0, "box corner", scene->error);
+    if (status == MPS2P_OK)
+        status = coordinates_check(scene->l0, x1, y1, "box corner", scene->error);
+    if (status != MPS2P_OK)
+        return status;
     /* A small tolerance so that 0.3 / 0.01 counts as 30 cells, not 29. */
     double cx = floor((x1 - x0) / scene->l0 + 1e-6);
     double cy = floor((y1 - y0) / scene->l0 + 1e-6);
@@ -179,13 +224,24 @@ static int check_box(mps2p_scene *scene, double x0, double y0, double x1, double
         return fail(scene->error, MPS2P_ERR_INVALID,
                     "box (%g, %g) to (%g, %g) is narrower than the spacing l0 = %g",
                     x0, y0, x1, y1, scene->l0);
-    if (cx * cy > (double)MAX_PARTICLES)
+    if (cx > (double)MAX_PARTICLES || cy > (double)MAX_PARTICLES)
         return fail(scene->error, MPS2P_ERR_INVALID,
-                    "box would hold %.3g particles, more than a scene can hold (%zu)",
-                    cx * cy, MAX_PARTICLES);
+                    "box (%g, %g) to (%g, %g) is %.3g x %.3g spacings, more than a scene can "
+                    "hold in a row (%zu)", x0, y0, x1, y1, cx, cy, MAX_PARTICLES);
     *nx = (size_t)cx;
     *ny = (size_t)cy;
     return MPS2P_OK;
+}
+
+static int check_box(mps2p_scene *scene, double x0, double y0, double x1, double y1,
+                     size_t *nx, size_t *ny)
+{
+    int status = box_cells(scene, x0, y0, x1, y1, nx, ny);
+    if (status == MPS2P_OK && (double)*nx * (double)*ny > (double)MAX_PARTICLES)
+        return fail(scene->error, MPS2P_ERR_INVALID,
+                    "box would hold %.3g particles, more than a scene can hold (%zu)",
+                    (double)*nx * (double)*ny, MAX_PARTICLES);
+    return status;
 }
 
 static int add_box(mps2p_scene *scene, int kind, int fluid_id,
@@ -208,6 +264,7 @@ static int add_box(mps2p_scene *scene, int kind, int fluid_id,
 int mps2p_scene_add_fluid_box(mps2p_scene *scene, int fluid_id,
                               double x0, double y0, double x1, double y1)
 {
+    error_clear();
     CHECK_SCENE(scene);
     if (fluid_id < 0 || fluid_id >= scene->fluid_count)
         return fail(scene->error, MPS2P_ERR_INVALID,
@@ -218,6 +275,7 @@ int mps2p_scene_add_fluid_box(mps2p_scene *scene, int fluid_id,
 
 int mps2p_scene_add_wall_box(mps2p_scene *scene, double x0, double y0, double x1, double y1)
 {
+    error_clear();
     CHECK_SCENE(scene);
     return add_box(scene, SOLID_FROM_BOX, -1, x0, y0, x1, y1);
 }
@@ -225,9 +283,11 @@ int mps2p_scene_add_wall_box(mps2p_scene *scene, double x0, double y0, double x1
 int mps2p_scene_add_tank(mps2p_scene *scene, double x0, double y0, double x1, double y1,
                          int open_top)
 {
+    error_clear();
     CHECK_SCENE(scene);
     size_t nx = 0, ny = 0;
-    int status = check_box(scene, x0, y0, x1, y1, &nx, &ny);
+    /* only the walls count against the particle cap: the inside stays empty */
+    int status = box_cells(scene, x0, y0, x1, y1, &nx, &ny);
     if (status != MPS2P_OK)
         return status;
     double t = ceil(params_max_radius(&scene->params) - 1e-9) * scene->l0;
@@ -265,16 +325,26 @@ int mps2p_scene_add_particles(mps2p_scene *scene, size_t count, const double *po
                               const double *velocities, const int *kinds,
                               const int *fluid_ids)
 {
+    error_clear();
     CHECK_SCENE(scene);
     if (count == 0)
         return MPS2P_OK;
     if (!positions || !kinds)
         return fail(scene->error, MPS2P_ERR_NULL, "positions and kinds must not be NULL");
+    /* before reading the arrays: count may be absurd */
+    int status = scene_check_room(scene, count);
+    if (status != MPS2P_OK)
+        return status;
     for (size_t i = 0; i < count; i++) {
         if (!isfinite(positions[2 * i]) || !isfinite(positions[2 * i + 1]))
             return fail(scene->error, MPS2P_ERR_INVALID,
                         "particle %zu: position is not finite (%g, %g)", i,
                         positions[2 * i], positions[2 * i + 1]);
+        char what[48];
+        snprintf(what, sizeof what, "particle %zu", i);
+        if (coordinates_check(scene->l0, positions[2 * i], positions[2 * i + 1], what,
+                              scene->error) != MPS2P_OK)
+            return MPS2P_ERR_INVALID;
         if (velocities && (!isfinite(velocities[2 * i]) || !isfinite(velocities[2 * i + 1])))
             return fail(scene->error, MPS2P_ERR_INVALID,
                         "particle %zu: velocity is not finite (%g, %g)", i,
@@ -294,7 +364,7 @@ int mps2p_scene_add_particles(mps2p_scene *scene, size_t count, const double *po
                             fluid_ids[i], scene->fluid_count);
         }
     }
-    int status = reserve(scene, count);
+    status = reserve(scene, count);
     if (status != MPS2P_OK)
         return status;
     for (size_t i = 0; i < count; i++) {
@@ -309,6 +379,7 @@ int mps2p_scene_add_particles(mps2p_scene *scene, size_t count, const double *po
 
 int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count)
 {
+    error_clear();
     CHECK_SCENE(scene);
     if (!count)
         return fail(NULL, MPS2P_ERR_NULL, "count output pointer is NULL");
@@ -318,6 +389,7 @@ int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count)
 
 int mps2p_scene_set_param(mps2p_scene *scene, const char *key, double value)
 {
+    error_clear();
     CHECK_SCENE(scene);
     if (!key)
         return fail(scene->error, MPS2P_ERR_NULL, "parameter key is NULL");
@@ -330,6 +402,7 @@ int mps2p_scene_set_param(mps2p_scene *scene, const char *key, double value)
 
 int mps2p_scene_get_param(const mps2p_scene *scene, const char *key, double *value)
 {
+    error_clear();
     CHECK_SCENE(scene);
     if (!key || !value)
         return fail(NULL, MPS2P_ERR_NULL, "parameter key or value pointer is NULL");
@@ -340,6 +413,7 @@ int mps2p_scene_get_param(const mps2p_scene *scene, const char *key, double *val
 
 int mps2p_scene_set_option(mps2p_scene *scene, const char *key, const char *value)
 {
+    error_clear();
     CHECK_SCENE(scene);
     if (!key || !value)
         return fail(scene->error, MPS2P_ERR_NULL, "option key or value is NULL");
@@ -352,6 +426,7 @@ int mps2p_scene_set_option(mps2p_scene *scene, const char *key, const char *valu
 
 int mps2p_scene_get_option(const mps2p_scene *scene, const char *key, const char **value)
 {
+    error_clear();
     CHECK_SCENE(scene);
     if (!key || !value)
         return fail(NULL, MPS2P_ERR_NULL, "option key or value pointer is NULL");
@@ -363,6 +438,7 @@ int mps2p_scene_get_option(const mps2p_scene *scene, const char *key, const char
 int mps2p_scene_set_domain(mps2p_scene *scene, double xmin, double ymin, double xmax,
                            double ymax)
 {
+    error_clear();
     CHECK_SCENE(scene);
     if (!isfinite(xmin) || !isfinite(ymin) || !isfinite(xmax) || !isfinite(ymax) ||
         xmax <= xmin || ymax <= ymin || !isfinite(xmax - xmin) || !isfinite(ymax - ymin))

@@ -2,6 +2,7 @@
 #include "internal.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -22,10 +23,8 @@ static int alloc_state(particle_state *st, size_t n)
     return st->position && st->velocity && st->pressure ? MPS2P_OK : MPS2P_ERR_NOMEM;
 }
 
-void mps2p_solver_destroy(mps2p_solver *s)
+static void solver_free(mps2p_solver *s)
 {
-    if (!s)
-        return;
     free(s->fluids);
     free(s->kind);
     free(s->fluid_id);
@@ -50,6 +49,29 @@ void mps2p_solver_destroy(mps2p_solver *s)
     coupling_free(s->coupling);
     phases_free(s->phases);
     free(s);
+}
+
+void mps2p_solver_destroy(mps2p_solver *s)
+{
+    if (!s)
+        return;
+    /* From the solver's own progress callback: its run still uses it, so it
+     * is freed when mps2p_solver_advance_to returns (issue 20). */
+    if (s->running) {
+        s->destroy_requested = 1;
+        return;
+    }
+    solver_free(s);
+}
+
+int solver_refuse_if_running(mps2p_solver *s, const char *function)
+{
+    if (!s->running)
+        return MPS2P_OK;
+    return fail(s->error, MPS2P_ERR_STATE,
+                "%s: the solver is inside mps2p_solver_advance_to (this is its progress "
+                "callback); return non-zero from the callback to stop the run first",
+                function);
 }
 
 const char *mps2p_solver_last_error(const mps2p_solver *s)
@@ -239,7 +261,8 @@ static int build(mps2p_solver *s, const mps2p_scene *scene)
     int status = solver_allocate(s, n, scene->fluid_count);
     if (status != MPS2P_OK)
         return status;
-    memcpy(s->fluids, scene->fluids, (size_t)scene->fluid_count * sizeof *s->fluids);
+    for (int f = 0; f < scene->fluid_count; f++)
+        s->fluids[f] = *scene->fluids[f];
     memcpy(s->state.position, scene->position, 2 * n * sizeof *s->state.position);
     memcpy(s->state.velocity, scene->velocity, 2 * n * sizeof *s->state.velocity);
     memcpy(s->kind, scene->kind, n * sizeof *s->kind);
@@ -282,6 +305,7 @@ static int build(mps2p_solver *s, const mps2p_scene *scene)
 
 int mps2p_solver_create(const mps2p_scene *scene, mps2p_solver **solver)
 {
+    error_clear();
     if (!solver)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_create: solver output pointer is NULL");
     *solver = NULL;
@@ -305,11 +329,17 @@ int mps2p_solver_create(const mps2p_scene *scene, mps2p_solver **solver)
                             scene->domain[3]);
         }
     }
+    char what[64];
+    snprintf(what, sizeof what, "a solver of %zu particles", scene->count);
+    int status = memory_check(&scene->params, solver_bytes_estimate(&scene->params, scene->count),
+                              what, NULL);
+    if (status != MPS2P_OK)
+        return status;
     mps2p_solver *s = calloc(1, sizeof *s);
     if (!s)
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory creating a solver");
     s->diverged_particle = -1;
-    int status = build(s, scene);
+    status = build(s, scene);
     if (status == MPS2P_OK)
         status = check_spacing(s);
     if (status != MPS2P_OK) {
@@ -338,15 +368,18 @@ static void restore_state(mps2p_solver *s)
         phases_put_carried(s, s->phases->before_step);
 }
 
-/* One step of length dt: the plan of stages (stages.c), rolled back on failure. */
-static int step_with(mps2p_solver *s, double dt)
+/* One step of length dt: the plan of stages (stages.c), rolled back on
+ * failure. ppe_min_dt: the shortest dt its pressure solve may see (0 = dt). */
+static int step_with(mps2p_solver *s, double dt, double ppe_min_dt)
 {
     if (s->diverged)
         return fail(s->error, MPS2P_ERR_STATE,
                     "the solver diverged at t = %.6g s; it keeps its last good state but "
                     "cannot step further", s->time);
     save_state(s);
+    s->ppe_min_dt = ppe_min_dt;
     int status = plan_run(s, dt);
+    s->ppe_min_dt = 0.0;
     if (status == MPS2P_ERR_DIVERGED)
         s->diverged = 1;
     if (status != MPS2P_OK) {
@@ -361,20 +394,19 @@ static int step_with(mps2p_solver *s, double dt)
 
 int mps2p_solver_step(mps2p_solver *s)
 {
+    error_clear();
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_step: solver is NULL");
-    return step_with(s, timestep_choose(s));
+    int status = solver_refuse_if_running(s, "mps2p_solver_step");
+    if (status != MPS2P_OK)
+        return status;
+    return step_with(s, timestep_choose(s), 0.0);
 }
 
-int mps2p_solver_advance_to(mps2p_solver *s, double end_time, mps2p_progress_fn progress,
-                            void *user_data)
+/* The steps of mps2p_solver_advance_to, with s->running set. */
+static int advance(mps2p_solver *s, double end_time, mps2p_progress_fn progress,
+                   void *user_data)
 {
-    if (!s)
-        return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_advance_to: solver is NULL");
-    if (!isfinite(end_time) || end_time < s->time)
-        return fail(s->error, MPS2P_ERR_INVALID,
-                    "end time must be finite and not before the current time %.9g s, got %g",
-                    s->time, end_time);
     const double tolerance = 1e-12 * fmax(1.0, fabs(end_time));
     while (end_time - s->time > tolerance) {
         double dt = timestep_choose(s);
@@ -383,15 +415,59 @@ int mps2p_solver_advance_to(mps2p_solver *s, double end_time, mps2p_progress_fn 
          * the pressure scales with 1/dt^2 times the density error, so a short
          * last step would bias the pressure read at end_time. */
         double steps_left = ceil(remaining / dt * (1.0 - 1e-9));
+        if (!(steps_left <= MAX_STEPS_PER_ADVANCE)) {
+            /* a viscosity of 1e20 m^2/s gives dt = 1e-24 s: it would never end */
+            char why[160];
+            timestep_explain(s, why, sizeof why);
+            return fail(s->error, MPS2P_ERR_INVALID,
+                        "advancing %g s to t = %.9g s at dt = %g s would take %.3g steps, "
+                        "more than %g; the step is set by %s", remaining, end_time, dt,
+                        steps_left, MAX_STEPS_PER_ADVANCE, why);
+        }
         int last = steps_left <= 1.0;
+        /* Every step of an even division is longer than dt / 2; only a window
+         * shorter than that ends in a shorter one, whose pressure solve then
+         * sees dt / 2 (PPE_MIN_STEP_FRACTION; pressure.c says why). */
+        double ppe_min_dt = last && remaining < PPE_MIN_STEP_FRACTION * dt
+                                ? PPE_MIN_STEP_FRACTION * dt : 0.0;
         dt = last ? remaining : remaining / steps_left;
-        int status = step_with(s, dt);
+        int status = step_with(s, dt, ppe_min_dt);
         if (status != MPS2P_OK)
             return status;
         if (last)
             s->time = end_time; /* land exactly, without rounding drift */
-        if (progress && progress(s, user_data))
+        if (progress && (progress(s, user_data) || s->destroy_requested))
             return MPS2P_STOPPED;
     }
+    /* A rest within the tolerance (rounding, or a window of 1e-12 s) is not
+     * a step; the time still lands on end_time, as promised. */
+    s->time = end_time;
     return MPS2P_OK;
+}
+
+int mps2p_solver_advance_to(mps2p_solver *s, double end_time, mps2p_progress_fn progress,
+                            void *user_data)
+{
+    error_clear();
+    if (!s)
+        return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_advance_to: solver is NULL");
+    int status = solver_refuse_if_running(s, "mps2p_solver_advance_to");
+    if (status != MPS2P_OK)
+        return status;
+    if (!isfinite(end_time) || end_time < s->time)
+        return fail(s->error, MPS2P_ERR_INVALID,
+                    "end time must be finite and not before the current time %.9g s, got %g",
+                    s->time, end_time);
+    s->running = 1;
+    status = advance(s, end_time, progress, user_data);
+    s->running = 0;
+    if (s->destroy_requested) {
+        solver_free(s);
+        return fail(NULL, MPS2P_ERR_STATE,
+                    "mps2p_solver_advance_to: the progress callback destroyed the solver; the "
+                    "run stopped after that callback, and the solver is freed now");
+    }
+    if (status >= 0)
+        error_clear(); /* a failure inside the callback is not this call's */
+    return status;
 }

@@ -320,6 +320,7 @@ int plan_run(mps2p_solver *s, double dt)
 
 int mps2p_solver_stage_count(const mps2p_solver *s, size_t *count)
 {
+    error_clear();
     if (!s || !count)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_stage_count: %s is NULL",
                     s ? "count" : "solver");
@@ -330,6 +331,7 @@ int mps2p_solver_stage_count(const mps2p_solver *s, size_t *count)
 int mps2p_solver_get_stage(const mps2p_solver *s, size_t index, const char **name,
                            int *active, double *seconds, uint64_t *calls)
 {
+    error_clear();
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_get_stage: solver is NULL");
     if (index >= STAGE_COUNT)
@@ -348,6 +350,7 @@ int mps2p_solver_get_stage(const mps2p_solver *s, size_t index, const char **nam
 
 int mps2p_solver_reset_stage_timings(mps2p_solver *s)
 {
+    error_clear();
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_reset_stage_timings: solver is NULL");
     memset(s->stage_seconds, 0, sizeof s->stage_seconds);

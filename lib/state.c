@@ -98,6 +98,7 @@ static int copy_arrays(mps2p_state *st, const mps2p_solver *s)
 
 int mps2p_solver_save_state(const mps2p_solver *s, mps2p_state **state)
 {
+    error_clear();
     if (!state)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_save_state: state output pointer is NULL");
     *state = NULL;
@@ -191,8 +192,12 @@ static void put_inputs(mps2p_solver *s, const mps2p_state *st, double **fresh,
 
 int mps2p_solver_restore_state(mps2p_solver *s, const mps2p_state *st)
 {
+    error_clear();
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_restore_state: solver is NULL");
+    int refused = solver_refuse_if_running(s, "mps2p_solver_restore_state");
+    if (refused != MPS2P_OK)
+        return refused;
     if (!st)
         return fail(s->error, MPS2P_ERR_NULL, "mps2p_solver_restore_state: state is NULL");
     if (!same_shape(s, st))

@@ -34,3 +34,9 @@ fi
 python_packages="meson>=1.1 cffi numpy h5py matplotlib tqdm pytest hypothesis meshio"
 python3 -m pip install -q --disable-pip-version-check $python_packages 2>/dev/null ||
     python3 -m pip install -q --disable-pip-version-check --break-system-packages $python_packages
+# atheris, for the scene-file fuzzer (tests/fuzz/fuzz_scenefile.py); where it
+# does not install, scripts/test-reliability.sh says so and skips that target.
+python3 -c 'import atheris' 2>/dev/null ||
+    python3 -m pip install -q --disable-pip-version-check atheris 2>/dev/null ||
+    python3 -m pip install -q --disable-pip-version-check --break-system-packages atheris \
+        2>/dev/null || echo "install-deps: atheris did not install (scene-file fuzzing skipped)"

@@ -3,8 +3,9 @@
 # failure, kills during checkpointing and determinism (plain build), the
 # API contract and the fuzzers' inputs under clang's AddressSanitizer and
 # UndefinedBehaviorSanitizer, the threads test under ThreadSanitizer, each
-# libFuzzer target for a bounded time, the ABI guard, and the scene-file
-# property tests. Under 8 minutes on 2 cores. What each check promises is in
+# libFuzzer target (and the atheris scene-file target) for a bounded time,
+# the ABI guard, and the scene-file
+# property tests. Under 10 minutes on 2 cores. What each check promises is in
 # docs/guarantees.md. FUZZ_SECONDS (default 60) sets each fuzzer's time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -37,7 +38,8 @@ export ASAN_OPTIONS="detect_leaks=1:suppressions=$PWD/tests/sanitizers/asan.supp
 export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizers/lsan.supp"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 meson test -C build-fuzz --print-errorlogs --timeout-multiplier 3 test_api_errors \
-    test_checkpoint fuzz_scene_replay fuzz_checkpoint_replay | tee "$log" || true
+    test_checkpoint test_windows test_reentry test_limits fuzz_scene_replay \
+    fuzz_checkpoint_replay fuzz_advance_replay | tee "$log" || true
 count
 
 echo "== ThreadSanitizer: two solvers and two files in two threads"
@@ -56,6 +58,26 @@ echo "== libFuzzer, ${fuzz_seconds} s per target"
 check fuzz_scene bash tests/fuzz/run_fuzzer.sh build-fuzz fuzz_scene "$fuzz_seconds"
 check fuzz_checkpoint bash tests/fuzz/run_fuzzer.sh build-fuzz fuzz_checkpoint \
     "$fuzz_seconds" -max_len=32768
+check fuzz_advance bash tests/fuzz/run_fuzzer.sh build-fuzz fuzz_advance "$fuzz_seconds"
+# Scene files through mps2p run's code path (Python, atheris), against build-rel's library.
+if python3 -c 'import atheris' 2>/dev/null; then
+    scenefile_fuzz() {
+        local log
+        log=$(mktemp)
+        MPS2P_LIBRARY="$PWD/build-rel/lib/libmps2p.so.0" python3 tests/fuzz/fuzz_scenefile.py \
+            -max_total_time="$fuzz_seconds" -timeout=20 -rss_limit_mb=2048 >"$log" 2>&1
+        local status=$?
+        local runs
+        runs=$(grep -oE '^Done [0-9]+ runs' "$log" | awk '{print $2}')
+        [ "$status" -eq 0 ] || tail -n 30 "$log"
+        echo "fuzz fuzz_scenefile: ${runs:-0} executions in $fuzz_seconds s, exit $status"
+        rm -f "$log"
+        [ "$status" -eq 0 ] && [ -n "$runs" ]
+    }
+    check fuzz_scenefile scenefile_fuzz
+else
+    echo "fuzz_scenefile: atheris is not installed (scripts/install-deps.sh installs it): skipped"
+fi
 
 echo "== ABI against abi/libmps2p.so.0.abi"
 check abi bash abi/check.sh

@@ -1,5 +1,8 @@
 /* API misuse: every bad call returns its code and a message, none crashes. */
+#define _DEFAULT_SOURCE
 #include <string.h>
+#include <sys/mman.h>
+#include <unistd.h>
 #include "scenes.h"
 
 #define EXPECT(call, code, fragment)                                                \
@@ -10,6 +13,140 @@
         CHECK(strstr(mps2p_last_error(), (fragment)) != NULL,                       \
               "%s: message \"%s\" lacks \"%s\"", #call, mps2p_last_error(), fragment); \
     } while (0)
+
+/* A fluid's name from mps2p_scene_get_fluid stays valid while the scene
+ * lives (issue 20: adding fluids realloc'ed the array under it, a
+ * heap-use-after-free). */
+static void test_fluid_names_stay_valid(void)
+{
+    mps2p_scene *scene;
+    const char *first = NULL, *fifth = NULL;
+    char name[16];
+    MUST(mps2p_scene_create(0.01, &scene));
+    MUST(mps2p_scene_add_fluid(scene, "water", 1000, 1e-6, NULL));
+    MUST(mps2p_scene_get_fluid(scene, 0, &first, NULL, NULL));
+    for (int f = 1; f < 40; f++) {
+        snprintf(name, sizeof name, "fluid-%d", f);
+        MUST(mps2p_scene_add_fluid(scene, name, 1000 - f, 1e-6, NULL));
+        if (f == 4)
+            MUST(mps2p_scene_get_fluid(scene, 4, &fifth, NULL, NULL));
+    }
+    CHECK(strcmp(first, "water") == 0, "first fluid's name reads \"%.15s\"", first);
+    CHECK(strcmp(fifth, "fluid-4") == 0, "fifth fluid's name reads \"%.15s\"", fifth);
+    mps2p_scene_destroy(scene);
+}
+
+static size_t particles_of(const mps2p_scene *scene)
+{
+    size_t count = 0;
+    MUST(mps2p_scene_particle_count(scene, &count));
+    return count;
+}
+
+/* Far from the origin a 0.1 m x 0.2 m box at l0 0.02 m lost particles to
+ * rounding (50 at the origin, 45 at x = 1e11 m, 36 at 1e12 m); coordinates
+ * beyond 1e9 l0 are refused, and within it every site is kept. */
+static void test_far_from_the_origin(void)
+{
+    mps2p_scene *scene;
+    int water;
+    MUST(mps2p_scene_create(0.02, &scene));
+    MUST(mps2p_scene_add_fluid(scene, "water", 1000, 1e-6, &water));
+    const double at[] = {0.0, 1e5, 1e7, 1.9e7};
+    for (size_t k = 0; k < sizeof at / sizeof at[0]; k++) {
+        size_t before = particles_of(scene);
+        MUST(mps2p_scene_add_fluid_box(scene, water, at[k], 0.0, at[k] + 0.1, 0.2));
+        CHECK(particles_of(scene) - before == 50, "a box at x = %g holds %zu particles", at[k],
+              particles_of(scene) - before);
+    }
+    size_t before = particles_of(scene);
+    EXPECT(mps2p_scene_add_fluid_box(scene, water, 1e11, 0, 1e11 + 0.1, 0.2), MPS2P_ERR_INVALID,
+           "beyond 1e+09 l0");
+    EXPECT(mps2p_scene_add_wall_box(scene, -1e12, 0, -1e12 + 0.1, 0.2), MPS2P_ERR_INVALID,
+           "beyond");
+    EXPECT(mps2p_scene_add_tank(scene, 1e11, 0, 1e11 + 0.4, 0.3, 1), MPS2P_ERR_INVALID, "beyond");
+    double position[2] = {0.0, 3e7};
+    int kind = MPS2P_KIND_FLUID;
+    EXPECT(mps2p_scene_add_particles(scene, 1, position, NULL, &kind, &water), MPS2P_ERR_INVALID,
+           "particle 0 at (0, 3e+07) is beyond");
+    CHECK(particles_of(scene) == before, "refused calls added %zu particles",
+          particles_of(scene) - before);
+    mps2p_scene_destroy(scene);
+}
+
+/* A tank counts its walls against the particle cap, not its inside: a 1 m
+ * tank at l0 3e-5 m (1.1e9 inner sites, 5e5 wall particles) was refused. */
+static void test_tank_counts_its_walls(void)
+{
+    mps2p_scene *scene;
+    MUST(mps2p_scene_create(3e-5, &scene));
+    int status = mps2p_scene_add_tank(scene, 0, 0, 1, 1, 1);
+    CHECK(status == MPS2P_OK, "a 1 m tank at l0 3e-5: %s: %s", mps2p_status_string(status),
+          mps2p_last_error());
+    size_t walls = particles_of(scene);
+    CHECK(walls > 3 * 33333 * 4 && walls < 1000000, "the tank has %zu wall particles", walls);
+    mps2p_scene_destroy(scene);
+}
+
+/* count is checked against the cap before the arrays are read: here the
+ * arrays hold one particle and end at an unreadable page. */
+static void test_count_checked_before_reading(void)
+{
+    long page = sysconf(_SC_PAGESIZE);
+    unsigned char *region = mmap(NULL, 2 * (size_t)page, PROT_READ | PROT_WRITE,
+                                 MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    CHECK(region != MAP_FAILED, "mmap");
+    if (region == MAP_FAILED)
+        return;
+    mprotect(region + page, (size_t)page, PROT_NONE);
+    double *position = (double *)(region + page) - 2;
+    int *kind = (int *)(region + page / 2) - 1;
+    position[0] = position[1] = 0.0;
+    *kind = MPS2P_KIND_WALL;
+    mps2p_scene *scene;
+    MUST(mps2p_scene_create(0.01, &scene));
+    const size_t absurd = (size_t)1 << 40;
+    EXPECT(mps2p_scene_add_particles(scene, absurd, position, NULL, kind, NULL),
+           MPS2P_ERR_INVALID, "at most");
+    int id;
+    EXPECT(mps2p_scene_add_body_particles(scene, "gate", absurd, position, kind, &id),
+           MPS2P_ERR_INVALID, "at most");
+    CHECK(particles_of(scene) == 0, "refused calls added particles");
+    MUST(mps2p_scene_add_particles(scene, 1, position, NULL, kind, NULL));
+    mps2p_scene_destroy(scene);
+    munmap(region, 2 * (size_t)page);
+}
+
+/* mps2p_last_error() is "" after a success (it kept the last failure's
+ * message); the handle keeps its last failure; destroy leaves it alone. */
+static void test_last_error_cleared_on_success(void)
+{
+    mps2p_scene *scene = tank_scene(0.02, 0.2, 0.1);
+    mps2p_solver *solver, *loaded;
+    double value;
+    CHECK(mps2p_scene_set_param(scene, "beta", 7.0) == MPS2P_ERR_INVALID, "beta 7");
+    CHECK(mps2p_last_error()[0] != '\0', "a failure leaves a message");
+    MUST(mps2p_scene_set_param(scene, "beta", 0.97));
+    CHECK(mps2p_last_error()[0] == '\0', "after set_param succeeded: \"%s\"",
+          mps2p_last_error());
+    CHECK(strstr(mps2p_scene_last_error(scene), "beta") != NULL, "the handle keeps its failure");
+    MUST(mps2p_solver_create(scene, &solver));
+    CHECK(mps2p_solver_get_stat(solver, "nonsense", &value) == MPS2P_ERR_UNKNOWN_KEY, "stat");
+    MUST(mps2p_solver_get_stat(solver, "max_speed", &value));
+    CHECK(mps2p_last_error()[0] == '\0', "after get_stat: \"%s\"", mps2p_last_error());
+    CHECK(mps2p_param_info(100000, NULL, NULL, NULL) == MPS2P_ERR_INVALID, "index");
+    MUST(mps2p_solver_step(solver));
+    CHECK(mps2p_last_error()[0] == '\0', "after step: \"%s\"", mps2p_last_error());
+    CHECK(mps2p_solver_load_checkpoint("/nonexistent/x.chk", &loaded) == MPS2P_ERR_IO, "load");
+    MUST(mps2p_solver_advance_to(solver, 0.01, NULL, NULL));
+    CHECK(mps2p_last_error()[0] == '\0', "after advance_to: \"%s\"", mps2p_last_error());
+    CHECK(mps2p_scene_fluid_count(scene, NULL) == MPS2P_ERR_NULL, "fluid_count");
+    mps2p_scene_destroy(scene);
+    CHECK(mps2p_last_error()[0] != '\0', "destroy cleared the message");
+    mps2p_solver_destroy(solver);
+    /* an empty path is an invalid argument for saving and loading alike */
+    EXPECT(mps2p_solver_load_checkpoint("", &loaded), MPS2P_ERR_INVALID, "path is empty");
+}
 
 int main(void)
 {
@@ -199,9 +336,15 @@ int main(void)
     MUST(mps2p_scene_add_fluid(scene, "water", 1000, 1e-6, &water));
     double far[4] = {-1e308, 0.0, 1e308, 0.0};
     int far_kinds[2] = {MPS2P_KIND_FLUID, MPS2P_KIND_FLUID}, far_ids[2] = {0, 0};
-    MUST(mps2p_scene_add_particles(scene, 2, far, NULL, far_kinds, far_ids));
-    EXPECT(mps2p_solver_create(scene, &solver), MPS2P_ERR_INVALID, "too large");
-    CHECK(solver == NULL, "no solver on failure");
+    /* (now refused before: coordinates beyond 1e9 l0, issue 20) */
+    EXPECT(mps2p_scene_add_particles(scene, 2, far, NULL, far_kinds, far_ids),
+           MPS2P_ERR_INVALID, "beyond 1e+09 l0");
     mps2p_scene_destroy(scene);
+
+    test_fluid_names_stay_valid();
+    test_far_from_the_origin();
+    test_tank_counts_its_walls();
+    test_count_checked_before_reading();
+    test_last_error_cleared_on_success();
     return check_summary("test_api_errors");
 }

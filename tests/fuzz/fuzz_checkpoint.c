@@ -1,6 +1,9 @@
 /* libFuzzer target: mps2p_solver_load_checkpoint on arbitrary bytes. The
  * bytes are written to a temporary file and loaded; a checkpoint that loads
- * is stepped twice, saved and loaded again. Every refusal must be
+ * is stepped twice, saved and loaded again. Bytes with a checksum header
+ * (format 4) are then given a fresh checksum (checkpoint_seal.h) and loaded
+ * again: the first load tests the checksum, which refuses nearly every
+ * mutation, the second the checks behind it (a crafted file). Every refusal must be
  * MPS2P_ERR_IO (or MPS2P_ERR_NOMEM) with a message; nothing may crash,
  * leak or trip a sanitizer, and no HDF5 object may stay open after a call
  * (a leaked handle keeps the whole file and its metadata cache in memory,
@@ -15,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "../checkpoint_seal.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -48,27 +52,20 @@ static void check_nothing_open(const char *after)
     }
 }
 
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+static void load_bytes(const uint8_t *data, size_t size)
 {
-    if (!input_path[0]) {
-        const char *dir = getenv("TMPDIR");
-        snprintf(input_path, sizeof input_path, "%s/mps2p-fuzz-%ld.chk", dir ? dir : "/tmp",
-                 (long)getpid());
-        snprintf(output_path, sizeof output_path, "%s.out", input_path);
-        atexit(remove_files);
-    }
     FILE *f = fopen(input_path, "wb");
     if (!f)
-        return 0;
+        return;
     size_t written = fwrite(data, 1, size, f);
     if (fclose(f) != 0 || written != size)
-        return 0;
+        return;
     mps2p_solver *solver = NULL;
     int status = mps2p_solver_load_checkpoint(input_path, &solver);
     check(status, MPS2P_ERR_IO);
     check_nothing_open("loading");
     if (status != MPS2P_OK)
-        return 0;
+        return;
     for (int k = 0; k < 2 && status == MPS2P_OK; k++) {
         status = mps2p_solver_step(solver);
         /* a loaded state may be one that cannot go on */
@@ -83,5 +80,26 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     check_nothing_open("saving and loading again");
     mps2p_solver_destroy(again);
     mps2p_solver_destroy(solver);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    if (!input_path[0]) {
+        const char *dir = getenv("TMPDIR");
+        snprintf(input_path, sizeof input_path, "%s/mps2p-fuzz-%ld.chk", dir ? dir : "/tmp",
+                 (long)getpid());
+        snprintf(output_path, sizeof output_path, "%s.out", input_path);
+        atexit(remove_files);
+    }
+    load_bytes(data, size);
+    if (seal_has_header(data, size)) {
+        uint8_t *copy = malloc(size);
+        if (copy) {
+            memcpy(copy, data, size);
+            reseal_bytes(copy, size);
+            load_bytes(copy, size);
+            free(copy);
+        }
+    }
     return 0;
 }

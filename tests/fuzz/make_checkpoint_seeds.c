@@ -1,9 +1,10 @@
 /* Writes the checkpoint fuzzer's seeds: small real checkpoints (a few
  * dozen particles) with each pressure solver and option, one diverged-free
- * run after some steps, and a two-phase one (format 3: group two_phase),
- * into the directory given. Run by hand when the format changes:
- * build-fuzz/tests/fuzz/make_checkpoint_seeds DIR (the seeds of format 2
- * kept in the corpus still cover reading older files). */
+ * run after some steps, and a two-phase one (group two_phase), into the
+ * directory given. Run by hand when the format changes:
+ * build-fuzz/tests/fuzz/make_checkpoint_seeds DIR. The corpus keeps, as
+ * format3-*.chk, the same seeds written by the library before format 4
+ * (no checksum header), which cover reading older files. */
 #include <mps2p.h>
 
 #include <stdio.h>

@@ -15,6 +15,9 @@
 #     when replayed alone is listed, not failed: libmps2p keeps no state
 #     between calls, HDF5 (caches, free lists) does.
 # Prints "fuzz <target>: N executions in S s, H HDF5-internal crashes, B bugs".
+# FUZZ_RUNS=N stops after N executions (else SECONDS alone bounds the run);
+# FUZZ_MERGE=1 merges the inputs that add coverage into tests/fuzz/corpus
+# (libFuzzer -merge=1: the corpus stays minimal); scripts/fuzz-long.sh.
 set -uo pipefail
 build=$1 target=$2 seconds=$3
 shift 3
@@ -29,9 +32,16 @@ export ASAN_OPTIONS="allocator_may_return_null=1:detect_leaks=1:suppressions=$he
 export LSAN_OPTIONS="suppressions=$here/../sanitizers/lsan.supp"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 log="$work/fuzz.log"
+runs=()
+[ -n "${FUZZ_RUNS:-}" ] && runs=("-runs=$FUZZ_RUNS")
 "$binary" -fork=1 -ignore_crashes=1 -ignore_ooms=1 -ignore_timeouts=1 \
     -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -malloc_limit_mb=1000000 \
-    -artifact_prefix="$work/artifacts/" "$@" "$work/corpus" >"$log" 2>&1
+    -artifact_prefix="$work/artifacts/" "${runs[@]}" "$@" "$work/corpus" >"$log" 2>&1
+if [ "${FUZZ_MERGE:-0}" = 1 ]; then
+    "$binary" -merge=1 -timeout=20 -rss_limit_mb=2048 -malloc_limit_mb=1000000 "$@" \
+        "$here/corpus/$name" "$work/corpus" >"$work/merge.log" 2>&1 ||
+        { echo "fuzz $target: merging the corpus failed"; tail -n 5 "$work/merge.log"; }
+fi
 executions=$(grep -oE '^#[0-9]+' "$log" | tail -n1 | tr -d '#')
 hdf5=0 bugs=0 other=0
 for input in "$work/artifacts"/*; do
