@@ -30,57 +30,87 @@
 /* as in scene.c: the pressure matrix uses int indices */
 #define MAX_PARTICLES ((size_t)INT_MAX / 2)
 
-/* Scalars of the solver, as root attributes: name, type, address. */
-typedef struct scalar_field {
-    const char *name;
-    int is_integer; /* uint64 when set, else double */
-    size_t offset;
-} scalar_field;
-
-#define DOUBLE_FIELD(name) {#name, 0, offsetof(mps2p_solver, name)}
-static const scalar_field doubles[] = {
-    DOUBLE_FIELD(l0),           DOUBLE_FIELD(time),         DOUBLE_FIELD(last_dt),
-    DOUBLE_FIELD(n0_density),   DOUBLE_FIELD(n0_laplacian), DOUBLE_FIELD(lambda),
-    DOUBLE_FIELD(dt_max),       DOUBLE_FIELD(pressure_limit), DOUBLE_FIELD(ppe_residual),
-};
-#define DOUBLE_COUNT (sizeof doubles / sizeof doubles[0])
-
-/* Counters kept as size_t or uint64_t in the solver, uint64 in the file. */
-static int write_counters(h5_context *ctx, hid_t file, const mps2p_solver *s)
+static hid_t h5_type(const field *f)
 {
-    const struct { const char *name; uint64_t value; } counters[] = {
-        {"particle_count", s->count},
-        {"steps", s->steps},
-        {"ppe_unknowns", s->ppe_unknowns},
-        {"ppe_iterations", s->ppe_iterations},
-        {"surface_particles", s->surface_particles},
-    };
-    for (size_t i = 0; i < sizeof counters / sizeof counters[0]; i++)
-        if (h5_write_attribute(ctx, file, counters[i].name, H5T_NATIVE_UINT64, 1,
-                               &counters[i].value) != 0)
+    switch (f->type) {
+    case FIELD_DOUBLE: return H5T_NATIVE_DOUBLE;
+    case FIELD_INT: return H5T_NATIVE_INT;
+    case FIELD_FLAG: return H5T_NATIVE_UCHAR;
+    default: return H5T_NATIVE_UINT64; /* FIELD_SIZE, FIELD_U64 */
+    }
+}
+
+/* The checkpointed rows of a state table: the per-particle ones as datasets
+ * of location (arrays set), or the others as its attributes, in table order.
+ * size_t values are stored as uint64. */
+static int write_fields(h5_context *ctx, hid_t location, const field_table *t,
+                        const void *object, size_t count, int arrays)
+{
+    for (size_t k = 0; k < t->count; k++) {
+        const field *f = &t->rows[k];
+        if (!(f->flags & FIELD_CHECKPOINTED) || !(f->flags & FIELD_PER_PARTICLE) != !arrays)
+            continue;
+        const void *data = field_data(object, f);
+        uint64_t wide[4];
+        if (f->type == FIELD_SIZE) {
+            for (size_t i = 0; i < f->width; i++)
+                wide[i] = ((const size_t *)data)[i];
+            data = wide;
+        }
+        hsize_t dims[2] = {count, f->width};
+        int status = arrays ? h5_write_dataset(ctx, location, f->name, h5_type(f),
+                                               f->width > 1 ? 2 : 1, dims, data)
+                            : h5_write_attribute(ctx, location, f->name, h5_type(f), f->width,
+                                                 data);
+        if (status != 0)
             return -1;
+    }
+    return 0;
+}
+
+/* The reverse of write_fields; a FIELD_OPTIONAL attribute that is absent
+ * (a file written before it was added) stays 0. */
+static int read_fields(h5_context *ctx, hid_t location, const field_table *t, void *object,
+                       size_t count, int arrays)
+{
+    for (size_t k = 0; k < t->count; k++) {
+        const field *f = &t->rows[k];
+        if (!(f->flags & FIELD_CHECKPOINTED) || !(f->flags & FIELD_PER_PARTICLE) != !arrays)
+            continue;
+        if (f->flags & FIELD_OPTIONAL) {
+            htri_t present = H5Aexists(location, f->name);
+            if (present < 0) {
+                h5_note(ctx);
+                return -1;
+            }
+            if (!present)
+                continue;
+        }
+        void *data = field_data(object, f);
+        uint64_t wide[4] = {0, 0, 0, 0};
+        hsize_t dims[2] = {count, f->width};
+        int status = arrays ? h5_read_dataset(ctx, location, f->name, h5_type(f),
+                                              f->width > 1 ? 2 : 1, dims, data)
+                            : h5_read_attribute(ctx, location, f->name, h5_type(f), f->width,
+                                                f->type == FIELD_SIZE ? wide : data);
+        if (status != 0)
+            return -1;
+        for (size_t i = 0; !arrays && f->type == FIELD_SIZE && i < f->width; i++)
+            ((size_t *)data)[i] = (size_t)wide[i];
+    }
     return 0;
 }
 
 static int write_root(h5_context *ctx, hid_t file, const mps2p_solver *s)
 {
-    int version = CHECKPOINT_FORMAT_VERSION, fluids = s->fluid_count, diverged = s->diverged;
+    int version = CHECKPOINT_FORMAT_VERSION;
     int status = h5_write_attribute_string(ctx, file, "format", CHECKPOINT_FORMAT);
     if (status == 0)
         status = h5_write_attribute(ctx, file, "format_version", H5T_NATIVE_INT, 1, &version);
     if (status == 0)
         status = h5_write_attribute_string(ctx, file, "library_version", mps2p_version_string());
-    for (size_t i = 0; status == 0 && i < DOUBLE_COUNT; i++)
-        status = h5_write_attribute(ctx, file, doubles[i].name, H5T_NATIVE_DOUBLE, 1,
-                                    (const char *)s + doubles[i].offset);
     if (status == 0)
-        status = h5_write_attribute(ctx, file, "domain", H5T_NATIVE_DOUBLE, 4, s->domain);
-    if (status == 0)
-        status = h5_write_attribute(ctx, file, "fluid_count", H5T_NATIVE_INT, 1, &fluids);
-    if (status == 0)
-        status = h5_write_attribute(ctx, file, "diverged", H5T_NATIVE_INT, 1, &diverged);
-    if (status == 0)
-        status = write_counters(ctx, file, s);
+        status = write_fields(ctx, file, &solver_fields, s, s->count, 0);
     return status;
 }
 
@@ -91,27 +121,7 @@ static int write_particles(h5_context *ctx, hid_t file, const mps2p_solver *s)
         h5_note(ctx);
         return -1;
     }
-    hsize_t vectors[2] = {s->count, 2}, scalars[1] = {s->count};
-    int status = h5_write_dataset(ctx, group, "position", H5T_NATIVE_DOUBLE, 2, vectors,
-                                  s->state.position);
-    if (status == 0)
-        status = h5_write_dataset(ctx, group, "velocity", H5T_NATIVE_DOUBLE, 2, vectors,
-                                  s->state.velocity);
-    const struct { const char *name; const double *data; } fields[] = {
-        {"pressure", s->state.pressure},   {"number_density", s->number_density},
-        {"density", s->density},           {"viscosity", s->viscosity},
-    };
-    for (size_t i = 0; status == 0 && i < sizeof fields / sizeof fields[0]; i++)
-        status = h5_write_dataset(ctx, group, fields[i].name, H5T_NATIVE_DOUBLE, 1, scalars,
-                                  fields[i].data);
-    if (status == 0)
-        status = h5_write_dataset(ctx, group, "kind", H5T_NATIVE_INT, 1, scalars, s->kind);
-    if (status == 0)
-        status = h5_write_dataset(ctx, group, "fluid_id", H5T_NATIVE_INT, 1, scalars,
-                                  s->fluid_id);
-    if (status == 0)
-        status = h5_write_dataset(ctx, group, "on_surface", H5T_NATIVE_UCHAR, 1, scalars,
-                                  s->on_surface);
+    int status = write_fields(ctx, group, &solver_fields, s, s->count, 1);
     H5Gclose(group);
     return status;
 }
@@ -209,51 +219,18 @@ done:
     return status;
 }
 
-/* Counters of the two-phase state's last step (phases_carry.c), as uint64
- * attributes of group "two_phase". */
-#define TWO_PHASE_COUNTER(name) {#name, offsetof(two_phase, name)}
-static const struct { const char *name; size_t offset; } two_phase_counters[] = {
-    TWO_PHASE_COUNTER(triggered_count), TWO_PHASE_COUNTER(enclosed_count),
-    TWO_PHASE_COUNTER(joined_count),    TWO_PHASE_COUNTER(heavy_unknowns),
-    TWO_PHASE_COUNTER(heavy_iterations), TWO_PHASE_COUNTER(gas_unknowns),
-    TWO_PHASE_COUNTER(gas_iterations),
-};
-#define TWO_PHASE_COUNTER_COUNT (sizeof two_phase_counters / sizeof two_phase_counters[0])
-
 /* Group "two_phase": what of the two-phase state carries into the next step
  * (phases_carry.c), one dataset per array, the scalars as attributes. */
 static int write_two_phase(h5_context *ctx, hid_t file, const mps2p_solver *s)
 {
-    const two_phase *tp = s->phases;
     hid_t group = H5Gcreate2(file, "two_phase", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     if (group < 0) {
         h5_note(ctx);
         return -1;
     }
-    hsize_t dims[1] = {s->count};
-    int status = 0;
-    for (size_t k = 0; status == 0 && k < PHASES_CARRIED_ARRAYS; k++) {
-        const phases_array *a = &phases_carried[k];
-        status = h5_write_dataset(ctx, group, a->name,
-                                  a->is_double ? H5T_NATIVE_DOUBLE : H5T_NATIVE_UCHAR, 1, dims,
-                                  phases_array_data(tp, a));
-    }
+    int status = write_fields(ctx, group, &two_phase_fields, s->phases, s->count, 1);
     if (status == 0)
-        status = h5_write_attribute(ctx, group, "have_initial", H5T_NATIVE_INT, 1,
-                                    &tp->have_initial);
-    if (status == 0)
-        status = h5_write_attribute(ctx, group, "gas_pressure_limit", H5T_NATIVE_DOUBLE, 1,
-                                    &tp->gas_pressure_limit);
-    if (status == 0)
-        status = h5_write_attribute(ctx, group, "gas_pressure_max", H5T_NATIVE_DOUBLE, 1,
-                                    &tp->gas_pressure_max);
-    for (size_t k = 0; status == 0 && k < TWO_PHASE_COUNTER_COUNT; k++) {
-        size_t value;
-        memcpy(&value, (const char *)tp + two_phase_counters[k].offset, sizeof value);
-        uint64_t stored = value;
-        status = h5_write_attribute(ctx, group, two_phase_counters[k].name, H5T_NATIVE_UINT64,
-                                    1, &stored);
-    }
+        status = write_fields(ctx, group, &two_phase_fields, s->phases, s->count, 0);
     H5Gclose(group);
     return status;
 }
@@ -346,23 +323,12 @@ static int read_header(h5_context *ctx, hid_t file, int sealed, int *file_versio
     return 0;
 }
 
-static int read_root(h5_context *ctx, hid_t file, mps2p_solver *s, size_t *count,
-                     int *fluids)
+static int read_root(h5_context *ctx, hid_t file, mps2p_solver *s)
 {
-    for (size_t i = 0; i < DOUBLE_COUNT; i++)
-        if (h5_read_attribute(ctx, file, doubles[i].name, H5T_NATIVE_DOUBLE, 1,
-                              (char *)s + doubles[i].offset) != 0)
-            return -1;
-    uint64_t particles = 0, steps = 0, unknowns = 0, iterations = 0, surface = 0;
-    if (h5_read_attribute(ctx, file, "domain", H5T_NATIVE_DOUBLE, 4, s->domain) != 0 ||
-        h5_read_attribute(ctx, file, "fluid_count", H5T_NATIVE_INT, 1, fluids) != 0 ||
-        h5_read_attribute(ctx, file, "diverged", H5T_NATIVE_INT, 1, &s->diverged) != 0 ||
-        h5_read_attribute(ctx, file, "particle_count", H5T_NATIVE_UINT64, 1, &particles) != 0 ||
-        h5_read_attribute(ctx, file, "steps", H5T_NATIVE_UINT64, 1, &steps) != 0 ||
-        h5_read_attribute(ctx, file, "ppe_unknowns", H5T_NATIVE_UINT64, 1, &unknowns) != 0 ||
-        h5_read_attribute(ctx, file, "ppe_iterations", H5T_NATIVE_UINT64, 1, &iterations) != 0 ||
-        h5_read_attribute(ctx, file, "surface_particles", H5T_NATIVE_UINT64, 1, &surface) != 0)
+    if (read_fields(ctx, file, &solver_fields, s, 0, 0) != 0)
         return -1;
+    const uint64_t particles = s->count, unknowns = s->ppe_unknowns,
+                   surface = s->surface_particles;
     /* each value in the range mps2p_solver_create would give it; the first
      * one out of range is named */
     const struct { const char *name; int ok; double value; } checks[] = {
@@ -397,11 +363,6 @@ static int read_root(h5_context *ctx, hid_t file, mps2p_solver *s, size_t *count
                      "and height", s->domain[0], s->domain[2], s->domain[1], s->domain[3]);
         return -1;
     }
-    *count = (size_t)particles;
-    s->steps = steps;
-    s->ppe_unknowns = (size_t)unknowns;
-    s->ppe_iterations = (size_t)iterations;
-    s->surface_particles = (size_t)surface;
     return 0;
 }
 
@@ -412,27 +373,7 @@ static int read_particles(h5_context *ctx, hid_t file, mps2p_solver *s)
         h5_note(ctx);
         return -1;
     }
-    hsize_t vectors[2] = {s->count, 2}, scalars[1] = {s->count};
-    const struct { const char *name; double *data; } fields[] = {
-        {"pressure", s->state.pressure}, {"number_density", s->number_density},
-        {"density", s->density},         {"viscosity", s->viscosity},
-    };
-    int status = h5_read_dataset(ctx, group, "position", H5T_NATIVE_DOUBLE, 2, vectors,
-                                 s->state.position);
-    if (status == 0)
-        status = h5_read_dataset(ctx, group, "velocity", H5T_NATIVE_DOUBLE, 2, vectors,
-                                 s->state.velocity);
-    for (size_t i = 0; status == 0 && i < sizeof fields / sizeof fields[0]; i++)
-        status = h5_read_dataset(ctx, group, fields[i].name, H5T_NATIVE_DOUBLE, 1, scalars,
-                                 fields[i].data);
-    if (status == 0)
-        status = h5_read_dataset(ctx, group, "kind", H5T_NATIVE_INT, 1, scalars, s->kind);
-    if (status == 0)
-        status = h5_read_dataset(ctx, group, "fluid_id", H5T_NATIVE_INT, 1, scalars,
-                                 s->fluid_id);
-    if (status == 0)
-        status = h5_read_dataset(ctx, group, "on_surface", H5T_NATIVE_UCHAR, 1, scalars,
-                                 s->on_surface);
+    int status = read_fields(ctx, group, &solver_fields, s, s->count, 1);
     H5Gclose(group);
     return status;
 }
@@ -723,31 +664,9 @@ static int read_two_phase(h5_context *ctx, hid_t file, mps2p_solver *s, int vers
         h5_note(ctx);
         return -1;
     }
-    two_phase *tp = s->phases;
-    hsize_t dims[1] = {s->count};
-    int status = 0;
-    for (size_t k = 0; status == 0 && k < PHASES_CARRIED_ARRAYS; k++) {
-        const phases_array *a = &phases_carried[k];
-        status = h5_read_dataset(ctx, group, a->name,
-                                 a->is_double ? H5T_NATIVE_DOUBLE : H5T_NATIVE_UCHAR, 1, dims,
-                                 phases_array_data(tp, a));
-    }
+    int status = read_fields(ctx, group, &two_phase_fields, s->phases, s->count, 1);
     if (status == 0)
-        status = h5_read_attribute(ctx, group, "have_initial", H5T_NATIVE_INT, 1,
-                                   &tp->have_initial);
-    if (status == 0)
-        status = h5_read_attribute(ctx, group, "gas_pressure_limit", H5T_NATIVE_DOUBLE, 1,
-                                   &tp->gas_pressure_limit);
-    if (status == 0)
-        status = h5_read_attribute(ctx, group, "gas_pressure_max", H5T_NATIVE_DOUBLE, 1,
-                                   &tp->gas_pressure_max);
-    for (size_t k = 0; status == 0 && k < TWO_PHASE_COUNTER_COUNT; k++) {
-        uint64_t stored = 0;
-        status = h5_read_attribute(ctx, group, two_phase_counters[k].name, H5T_NATIVE_UINT64, 1,
-                                   &stored);
-        size_t value = (size_t)stored;
-        memcpy((char *)tp + two_phase_counters[k].offset, &value, sizeof value);
-    }
+        status = read_fields(ctx, group, &two_phase_fields, s->phases, s->count, 0);
     H5Gclose(group);
     char why[ERROR_MESSAGE_SIZE];
     if (status == 0 && phases_carried_check(s, why, sizeof why) != 0) {
@@ -767,13 +686,14 @@ static int load(h5_context *ctx, hid_t file, int sealed, mps2p_solver **out)
     if (!s)
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory loading a checkpoint");
     s->diverged_particle = -1; /* not saved */
-    size_t count = 0;
-    int fluids = 0, version = 0, status = MPS2P_ERR_IO;
+    int version = 0, status = MPS2P_ERR_IO;
     double *built_at = NULL;
     uint64_t builds = 0;
-    if (read_header(ctx, file, sealed, &version) != 0 || read_root(ctx, file, s, &count, &fluids) != 0 ||
+    if (read_header(ctx, file, sealed, &version) != 0 || read_root(ctx, file, s) != 0 ||
         h5_read_parameters(ctx, file, &s->params) != 0)
         goto done;
+    const size_t count = s->count;
+    const int fluids = s->fluid_count;
     int file_fluids = 0;
     if (h5_read_fluid_count(ctx, file, &file_fluids) != 0)
         goto done;
@@ -808,11 +728,6 @@ static int load(h5_context *ctx, hid_t file, int sealed, mps2p_solver **out)
     /* after solver_start: its plan allocated s->phases if the file makes two phases */
     if (status == MPS2P_OK && read_two_phase(ctx, file, s, version) != 0)
         status = MPS2P_ERR_IO;
-    if (status == MPS2P_OK) {
-        memcpy(s->saved.position, s->state.position, 2 * count * sizeof(double));
-        memcpy(s->saved.velocity, s->state.velocity, 2 * count * sizeof(double));
-        memcpy(s->saved.pressure, s->state.pressure, count * sizeof(double));
-    }
 done:
     free(built_at);
     if (status != MPS2P_OK) {

@@ -21,7 +21,7 @@ int diverged_at(mps2p_solver *s, size_t i, int status)
 int divergence_check(mps2p_solver *s, double dt)
 {
     const double *r = s->state.position, *u = s->state.velocity, *p = s->state.pressure;
-    const double *before = s->saved.position;
+    const double *before = s->before_step->state.position;
     const double jump = s->params.displacement_limit * s->l0;
     const double t = s->time + dt;
     const unsigned long long step = (unsigned long long)s->steps + 1;

@@ -76,6 +76,60 @@ int fail(char *handle_buffer, int status, const char *format, ...)
  * status calls it first, so a success leaves "" (one thread-local store). */
 void error_clear(void);
 
+/* ---- the state tables (fields.c) ---- */
+
+/* One row a member of a struct: an array of width values per particle
+ * (FIELD_PER_PARTICLE), or width values. The rows say what is allocated,
+ * counted, saved, checkpointed and rolled back; adding a member is a row. */
+enum field_type {
+    FIELD_DOUBLE, FIELD_INT, FIELD_LONG, FIELD_UNSIGNED,
+    FIELD_FLAG,   /* unsigned char, 0 or 1 */
+    FIELD_SIZE,   /* a size_t value (no arrays); uint64 in a checkpoint */
+    FIELD_U64,
+    FIELD_PARAMS  /* a struct params */
+};
+enum field_flags {
+    FIELD_PER_PARTICLE = 1 << 0,
+    FIELD_SAVED = 1 << 1,        /* in an mps2p_state, put back by restore_state */
+    FIELD_MATCHED = 1 << 2,      /* in an mps2p_state, which fits only where it is equal */
+    FIELD_CHECKPOINTED = 1 << 3, /* written to and read from checkpoints */
+    FIELD_ROLLED_BACK = 1 << 4,  /* put back when a step fails */
+    FIELD_ON_DEMAND = 1 << 5,    /* allocated when a stage of the plan needs it */
+    FIELD_OPTIONAL = 1 << 6      /* absent from older checkpoints: read as 0 there */
+};
+typedef struct field {
+    const char *name; /* in checkpoints and messages */
+    size_t offset;    /* of the member: the array's pointer, or the values */
+    unsigned char type, width;
+    unsigned short flags;
+} field;
+typedef struct field_table {
+    const field *rows;
+    size_t count;
+} field_table;
+
+extern const field_table solver_fields; /* struct mps2p_solver's */
+size_t field_element_size(const field *f);
+/* Bytes of the member's values for count particles. */
+size_t field_bytes(const field *f, size_t count);
+/* The values: the array a per-particle member points to, else the member. */
+void *field_data(const void *object, const field *f);
+/* Allocates (zeroed) the arrays of rows with any flag of with (0: every
+ * row) and none of without, where not allocated yet. */
+int fields_allocate(const field_table *t, void *object, size_t count, unsigned with,
+                    unsigned without);
+void fields_free(const field_table *t, void *object);
+/* Bytes of the arrays the object holds. */
+size_t fields_memory(const field_table *t, const void *object, size_t count);
+/* Copies the rows with any flag of with; both hold their arrays. */
+void fields_copy(const field_table *t, void *to, const void *from, size_t count,
+                 unsigned with);
+/* 1 when the rows with any flag of with are equal, scalars compared first. */
+int fields_equal(const field_table *t, const void *a, const void *b, size_t count,
+                 unsigned with);
+/* The row of the member at offset, or NULL. */
+const field *field_at(const field_table *t, size_t offset);
+
 /* ---- parameters (params.c) ---- */
 
 enum pressure_solver_kind { PRESSURE_SOLVER_CHOLMOD = 0, PRESSURE_SOLVER_CG = 1 };
@@ -425,25 +479,16 @@ size_t gas_in_liquid_count(const mps2p_solver *s);                  /* gas_in_li
 /* A light particle with more heavy-fluid than light-fluid neighbours within re. */
 int more_liquid_than_light_neighbours(const mps2p_solver *s, size_t i);
 
-/* What of s->phases carries from one step into the next, for
- * mps2p_solver_save_state and checkpoints (phases_carry.c says why each
- * member, and why not the others): these per-particle arrays, have_initial,
- * gas_pressure_limit and the last step's counts; heavy_mask is rebuilt. */
-typedef struct phases_array {
-    const char *name;  /* the member, and its dataset in a checkpoint */
-    int is_double;     /* else flags (unsigned char, 0 or 1) */
-    size_t offset;     /* of the member (a pointer) in struct two_phase */
-} phases_array;
-#define PHASES_CARRIED_ARRAYS 5
-extern const phases_array phases_carried[PHASES_CARRIED_ARRAYS];
-void *phases_array_data(const two_phase *tp, const phases_array *a);
-size_t phases_array_bytes(const phases_array *a, size_t count);
-/* A struct two_phase holding only the carried members of s->phases, and
- * light (a state fits only a solver with the same light particles); the
- * other arrays NULL. NULL when out of memory; freed with phases_free. */
-two_phase *phases_copy_carried(const mps2p_solver *s);
-/* Puts from's carried members into s->phases, then rebuilds heavy_mask. */
-void phases_put_carried(mps2p_solver *s, const two_phase *from);
+/* What of s->phases is saved, checkpointed and rolled back, row by row
+ * (phases_carry.c says why each member, and why not the others). */
+extern const field_table two_phase_fields;
+/* A struct two_phase holding only the rows of s->phases with any flag of
+ * with, the other arrays NULL; NULL when out of memory. Freed with
+ * phases_free. */
+two_phase *phases_copy_carried(const mps2p_solver *s, unsigned with);
+/* Puts from's rows with any flag of with into s->phases, then rebuilds
+ * heavy_mask. */
+void phases_put_carried(mps2p_solver *s, const two_phase *from, unsigned with);
 /* Into s->phases->before_step at a step's start; put back when it fails. */
 void phases_save_before_step(mps2p_solver *s);
 /* heavy_mask from light and join_weight, as the last step left it. */
@@ -471,7 +516,9 @@ struct mps2p_solver {
     double *density;        /* per particle; walls take the heaviest fluid's */
     double *viscosity;      /* per particle; 0 for walls */
     particle_state state;
-    particle_state saved;   /* state before the current step, for rollback */
+    /* The rolled-back members as the current step found them (the same
+     * members, nothing else allocated): put back when it fails. */
+    struct mps2p_solver *before_step;
     double *number_density; /* n* of the last step */
     double *number_density_start; /* n at the start of the last step */
     double *scratch;        /* 2n, stage workspace */

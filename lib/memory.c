@@ -12,18 +12,8 @@ size_t solver_memory_bytes(const mps2p_solver *s)
 {
     const size_t n = s->count;
     size_t bytes = sizeof *s + (size_t)s->fluid_count * sizeof *s->fluids;
-    bytes += n * (sizeof *s->kind + sizeof *s->fluid_id + sizeof *s->density +
-                  sizeof *s->viscosity + sizeof *s->on_surface + sizeof *s->rhs +
-                  sizeof *s->solution + sizeof *s->unknown_of);
-    bytes += 2 * n * sizeof *s->scratch;
-    bytes += 2 * 5 * n * sizeof(double); /* state and saved: position, velocity, pressure */
-    bytes += n * sizeof *s->number_density;
-    if (s->number_density_start)
-        bytes += n * sizeof *s->number_density_start;
-    if (s->eddy_viscosity)
-        bytes += n * sizeof *s->eddy_viscosity;
-    if (s->neighbour_count)
-        bytes += n * sizeof *s->neighbour_count;
+    bytes += fields_memory(&solver_fields, s, n); /* on-demand arrays once allocated */
+    bytes += sizeof *s->before_step + fields_memory(&solver_fields, s->before_step, n);
     bytes += phases_memory_bytes(s); /* 0 unless effect two_phase is on */
     const neighbour_list *nl = &s->neighbours;
     bytes += (nl->count + 1) * sizeof *nl->start + nl->capacity * sizeof *nl->index;
@@ -79,12 +69,13 @@ size_t scene_bytes_per_particle(void)
 
 double solver_bytes_estimate(const params *p, size_t n)
 {
-    const mps2p_solver *s = NULL;
-    const double arrays = sizeof *s->kind + sizeof *s->fluid_id + sizeof *s->density +
-                          sizeof *s->viscosity + sizeof *s->on_surface + sizeof *s->rhs +
-                          sizeof *s->solution + sizeof *s->unknown_of +
-                          2 * sizeof *s->scratch + 10 * sizeof(double) +
-                          sizeof *s->number_density;
+    size_t per_particle = 0; /* the arrays of creation, and their copies from before a step */
+    for (size_t k = 0; k < solver_fields.count; k++) {
+        const field *f = &solver_fields.rows[k];
+        if ((f->flags & FIELD_PER_PARTICLE) && !(f->flags & FIELD_ON_DEMAND))
+            per_particle += field_bytes(f, 1) * (f->flags & FIELD_ROLLED_BACK ? 2 : 1);
+    }
+    const double arrays = (double)per_particle;
     /* lattice sites within the list's cutoff and the short list's: pi r^2 */
     const double skin = p->neighbour_skin, pi = 3.14159265358979;
     const double cutoff = params_max_radius(p) + skin, near = p->re_density + skin;

@@ -27,43 +27,20 @@ double phases_light_density(const mps2p_solver *s, double *heaviest)
     return light;
 }
 
-/* Per particle: 9 flags and 11 doubles (the arrays of struct two_phase),
- * and the rollback copy of what carries into the next step: 2 flags (light,
- * joined) and 4 doubles (phases_carry.c). */
-#define PHASES_FLAGS (9 + 2)
-#define PHASES_DOUBLES (11 + 4)
-
 size_t phases_memory_bytes(const mps2p_solver *s)
 {
-    if (!s->phases)
+    const two_phase *tp = s->phases;
+    if (!tp)
         return 0;
-    return 2 * sizeof *s->phases + s->count * (PHASES_FLAGS + PHASES_DOUBLES * sizeof(double));
+    return sizeof *tp + fields_memory(&two_phase_fields, tp, s->count) +
+           sizeof *tp->before_step + fields_memory(&two_phase_fields, tp->before_step, s->count);
 }
 
 void phases_free(two_phase *tp)
 {
     if (!tp)
         return;
-    free(tp->light);
-    free(tp->triggered);
-    free(tp->enclosed);
-    free(tp->joined);
-    free(tp->was_joined);
-    free(tp->join_weight);
-    free(tp->heavy_part);
-    free(tp->heavy_mask);
-    free(tp->gas_part);
-    free(tp->heavy_surface);
-    free(tp->gas_surface);
-    free(tp->heavy_n);
-    free(tp->heavy_n_start);
-    free(tp->heavy_pressure);
-    free(tp->gas_pressure);
-    free(tp->gas_dirichlet);
-    free(tp->gas_n);
-    free(tp->heavy_n_initial);
-    free(tp->heavy_rho);
-    free(tp->gas_rho);
+    fields_free(&two_phase_fields, tp);
     phases_free(tp->before_step);
     free(tp);
 }
@@ -75,39 +52,14 @@ int phases_init(mps2p_solver *s)
 
     const size_t n = s->count;
     two_phase *tp = calloc(1, sizeof *tp);
-    if (!tp)
+    if (!tp || fields_allocate(&two_phase_fields, tp, n, 0, 0) != MPS2P_OK) {
+        phases_free(tp);
         return MPS2P_ERR_NOMEM;
+    }
     /* effects are decided before the plan allocates this state */
     tp->improved = s->effect_active[EFFECT_INTERFACE_REACTION];
     tp->heavy_density = heaviest;
     tp->light_density = light_density;
-    tp->light = calloc(n, 1);
-    tp->triggered = calloc(n, 1);
-    tp->enclosed = calloc(n, 1);
-    tp->joined = calloc(n, 1);
-    tp->was_joined = calloc(n, 1);
-    tp->join_weight = calloc(n, sizeof(double));
-    tp->heavy_part = calloc(n, 1);
-    tp->heavy_mask = calloc(n, 1);
-    tp->gas_part = calloc(n, 1);
-    tp->heavy_surface = calloc(n, 1);
-    tp->gas_surface = calloc(n, 1);
-    tp->heavy_n = calloc(n, sizeof(double));
-    tp->heavy_n_start = calloc(n, sizeof(double));
-    tp->heavy_pressure = calloc(n, sizeof(double));
-    tp->gas_pressure = calloc(n, sizeof(double));
-    tp->gas_dirichlet = calloc(n, sizeof(double));
-    tp->gas_n = calloc(n, sizeof(double));
-    tp->heavy_n_initial = calloc(n, sizeof(double));
-    tp->heavy_rho = calloc(n, sizeof(double));
-    tp->gas_rho = calloc(n, sizeof(double));
-    if (!tp->light || !tp->triggered || !tp->enclosed || !tp->joined || !tp->was_joined || !tp->join_weight || !tp->heavy_part ||
-        !tp->heavy_mask || !tp->gas_part || !tp->heavy_surface || !tp->gas_surface ||
-        !tp->heavy_n || !tp->heavy_n_start || !tp->heavy_pressure || !tp->gas_pressure || !tp->gas_dirichlet || !tp->gas_n || !tp->heavy_n_initial ||
-        !tp->heavy_rho || !tp->gas_rho) {
-        phases_free(tp);
-        return MPS2P_ERR_NOMEM;
-    }
     for (size_t i = 0; i < n; i++) {
         tp->light[i] = s->kind[i] == MPS2P_KIND_FLUID &&
                        s->fluids[s->fluid_id[i]].density < threshold;
@@ -121,7 +73,7 @@ int phases_init(mps2p_solver *s)
                                  : 1000.0 * light_density * fmax(g * extent, 1.0);
     s->phases = tp;
     /* a failed step puts the carried state back, as it does the particles */
-    tp->before_step = phases_copy_carried(s);
+    tp->before_step = phases_copy_carried(s, FIELD_ROLLED_BACK);
     if (!tp->before_step) {
         s->phases = NULL;
         phases_free(tp);
@@ -349,11 +301,12 @@ int phases_divergence_check(mps2p_solver *s, double dt)
 {
     const two_phase *tp = s->phases;
     const double jump = s->params.displacement_limit * s->l0;
+    const double *before = s->before_step->state.position;
     for (size_t i = 0; i < s->count; i++) {
         if (!tp->light[i])
             continue;
-        double moved = hypot(s->state.position[2 * i] - s->saved.position[2 * i],
-                             s->state.position[2 * i + 1] - s->saved.position[2 * i + 1]);
+        double moved = hypot(s->state.position[2 * i] - before[2 * i],
+                             s->state.position[2 * i + 1] - before[2 * i + 1]);
         if (jump > 0.0 && moved > jump)
             return diverged_at(s, i, fail(s->error, MPS2P_ERR_DIVERGED,
                         "diverged at step %llu, t = %.6g s: gas particle %zu (%s) jumped %g l0 "

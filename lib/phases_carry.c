@@ -1,6 +1,7 @@
-/* What of the two-phase state carries from one step into the next, so that
- * mps2p_solver_save_state (state.c) and checkpoints (checkpoint.c) can save
- * it and a restored two-phase solver continues bit for bit.
+/* The two-phase state's table (struct two_phase, one row a member): what
+ * carries from one step into the next, so that mps2p_solver_save_state
+ * (state.c), checkpoints (checkpoint.c) and a failed step's rollback keep it
+ * and a restored two-phase solver continues bit for bit.
  *
  * Carried (read in a step before that step writes them):
  *   join_weight      ramped from its last value (liquid_pressure_solve); read
@@ -34,76 +35,70 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define CARRIED(member, is_double) {#member, is_double, offsetof(two_phase, member)}
-const phases_array phases_carried[PHASES_CARRIED_ARRAYS] = {
-    CARRIED(join_weight, 1),    CARRIED(joined, 0),       CARRIED(heavy_n_initial, 1),
-    CARRIED(heavy_pressure, 1), CARRIED(gas_pressure, 1),
+#define FIELD(member, type, flags)                                                     \
+    {#member, offsetof(two_phase, member), type, 1, flags}
+#define CARRIED (FIELD_SAVED | FIELD_CHECKPOINTED | FIELD_ROLLED_BACK)
+#define ARRAY(member, type, flags) FIELD(member, type, FIELD_PER_PARTICLE | (flags))
+
+/* Datasets, then attributes, of group "two_phase" of a checkpoint, in this
+ * order (docs/results-files.md). */
+static const field two_phase_rows[] = {
+    ARRAY(join_weight, FIELD_DOUBLE, CARRIED),
+    ARRAY(joined, FIELD_FLAG, CARRIED),
+    ARRAY(heavy_n_initial, FIELD_DOUBLE, CARRIED),
+    ARRAY(heavy_pressure, FIELD_DOUBLE, CARRIED),
+    ARRAY(gas_pressure, FIELD_DOUBLE, CARRIED),
+    /* from the scene: a state fits only a solver with the same light particles */
+    ARRAY(light, FIELD_FLAG, FIELD_MATCHED),
+    /* rebuilt from light and join_weight (phases_carried_rebuild) */
+    ARRAY(heavy_mask, FIELD_FLAG, 0),
+    /* written for every particle in a step before they are read */
+    ARRAY(triggered, FIELD_FLAG, 0),
+    ARRAY(enclosed, FIELD_FLAG, 0),
+    ARRAY(was_joined, FIELD_FLAG, 0),
+    ARRAY(heavy_part, FIELD_FLAG, 0),
+    ARRAY(gas_part, FIELD_FLAG, 0),
+    ARRAY(heavy_surface, FIELD_FLAG, 0),
+    ARRAY(gas_surface, FIELD_FLAG, 0),
+    ARRAY(heavy_n, FIELD_DOUBLE, 0),
+    ARRAY(heavy_n_start, FIELD_DOUBLE, 0),
+    ARRAY(gas_dirichlet, FIELD_DOUBLE, 0),
+    ARRAY(gas_n, FIELD_DOUBLE, 0),
+    ARRAY(heavy_rho, FIELD_DOUBLE, 0),
+    /* from the scene (phases_init) */
+    ARRAY(gas_rho, FIELD_DOUBLE, 0),
+
+    FIELD(have_initial, FIELD_INT, CARRIED),
+    FIELD(gas_pressure_limit, FIELD_DOUBLE, CARRIED),
+    FIELD(gas_pressure_max, FIELD_DOUBLE, CARRIED),
+    FIELD(triggered_count, FIELD_SIZE, CARRIED),
+    FIELD(enclosed_count, FIELD_SIZE, CARRIED),
+    FIELD(joined_count, FIELD_SIZE, CARRIED),
+    FIELD(heavy_unknowns, FIELD_SIZE, CARRIED),
+    FIELD(heavy_iterations, FIELD_SIZE, CARRIED),
+    FIELD(gas_unknowns, FIELD_SIZE, CARRIED),
+    FIELD(gas_iterations, FIELD_SIZE, CARRIED),
+    FIELD(capped_count, FIELD_SIZE, CARRIED | FIELD_OPTIONAL),
 };
 
-void *phases_array_data(const two_phase *tp, const phases_array *a)
-{
-    void *data;
-    memcpy(&data, (const char *)tp + a->offset, sizeof data);
-    return data;
-}
+const field_table two_phase_fields = {two_phase_rows,
+                                      sizeof two_phase_rows / sizeof two_phase_rows[0]};
 
-size_t phases_array_bytes(const phases_array *a, size_t count)
+two_phase *phases_copy_carried(const mps2p_solver *s, unsigned with)
 {
-    return count * (a->is_double ? sizeof(double) : 1);
-}
-
-static void copy_scalars(two_phase *to, const two_phase *from)
-{
-    to->have_initial = from->have_initial;
-    to->gas_pressure_limit = from->gas_pressure_limit;
-    to->triggered_count = from->triggered_count;
-    to->enclosed_count = from->enclosed_count;
-    to->joined_count = from->joined_count;
-    to->capped_count = from->capped_count; /* not in checkpoints: 0 after a load */
-    to->heavy_unknowns = from->heavy_unknowns;
-    to->heavy_iterations = from->heavy_iterations;
-    to->gas_unknowns = from->gas_unknowns;
-    to->gas_iterations = from->gas_iterations;
-    to->gas_pressure_max = from->gas_pressure_max;
-}
-
-two_phase *phases_copy_carried(const mps2p_solver *s)
-{
-    const two_phase *tp = s->phases;
-    const size_t n = s->count;
     two_phase *copy = calloc(1, sizeof *copy);
-    if (!copy)
-        return NULL;
-    /* light too: a state fits only a solver with the same light particles */
-    int ok = (copy->light = malloc(n ? n : 1)) != NULL;
-    if (ok)
-        memcpy(copy->light, tp->light, n);
-    for (size_t k = 0; ok && k < PHASES_CARRIED_ARRAYS; k++) {
-        const phases_array *a = &phases_carried[k];
-        size_t bytes = phases_array_bytes(a, n);
-        void *data = malloc(bytes ? bytes : 1);
-        ok = data != NULL;
-        if (ok)
-            memcpy(data, phases_array_data(tp, a), bytes);
-        memcpy((char *)copy + a->offset, &data, sizeof data);
-    }
-    if (!ok) {
+    if (!copy || fields_allocate(&two_phase_fields, copy, s->count, with, 0) != MPS2P_OK) {
         phases_free(copy);
         return NULL;
     }
-    copy_scalars(copy, tp);
+    fields_copy(&two_phase_fields, copy, s->phases, s->count, with);
     return copy;
 }
 
 void phases_save_before_step(mps2p_solver *s)
 {
-    two_phase *tp = s->phases, *to = tp->before_step;
-    for (size_t k = 0; k < PHASES_CARRIED_ARRAYS; k++) {
-        const phases_array *a = &phases_carried[k];
-        memcpy(phases_array_data(to, a), phases_array_data(tp, a),
-               phases_array_bytes(a, s->count));
-    }
-    copy_scalars(to, tp);
+    fields_copy(&two_phase_fields, s->phases->before_step, s->phases, s->count,
+                FIELD_ROLLED_BACK);
 }
 
 void phases_carried_rebuild(mps2p_solver *s)
@@ -113,15 +108,9 @@ void phases_carried_rebuild(mps2p_solver *s)
         tp->heavy_mask[i] = !tp->light[i] || tp->join_weight[i] > 0.0;
 }
 
-void phases_put_carried(mps2p_solver *s, const two_phase *from)
+void phases_put_carried(mps2p_solver *s, const two_phase *from, unsigned with)
 {
-    two_phase *tp = s->phases;
-    for (size_t k = 0; k < PHASES_CARRIED_ARRAYS; k++) {
-        const phases_array *a = &phases_carried[k];
-        memcpy(phases_array_data(tp, a), phases_array_data(from, a),
-               phases_array_bytes(a, s->count));
-    }
-    copy_scalars(tp, from);
+    fields_copy(&two_phase_fields, s->phases, from, s->count, with);
     phases_carried_rebuild(s);
 }
 

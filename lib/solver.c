@@ -8,43 +8,17 @@
 
 #define CLOSEST_ALLOWED 0.1 /* initial particles closer than this (in l0) are an error */
 
-static void free_state(particle_state *st)
-{
-    free(st->position);
-    free(st->velocity);
-    free(st->pressure);
-}
-
-static int alloc_state(particle_state *st, size_t n)
-{
-    st->position = malloc(2 * n * sizeof *st->position);
-    st->velocity = malloc(2 * n * sizeof *st->velocity);
-    st->pressure = calloc(n, sizeof *st->pressure);
-    return st->position && st->velocity && st->pressure ? MPS2P_OK : MPS2P_ERR_NOMEM;
-}
-
 static void solver_free(mps2p_solver *s)
 {
     free(s->fluids);
-    free(s->kind);
-    free(s->fluid_id);
-    free(s->density);
-    free(s->viscosity);
-    free_state(&s->state);
-    free_state(&s->saved);
-    free(s->number_density);
-    free(s->number_density_start);
-    free(s->eddy_viscosity);
-    free(s->neighbour_count);
-    free(s->scratch);
-    free(s->on_surface);
+    fields_free(&solver_fields, s);
+    if (s->before_step)
+        fields_free(&solver_fields, s->before_step);
+    free(s->before_step);
     neighbours_free(&s->neighbours);
     free(s->matrix.row_start);
     free(s->matrix.column);
     free(s->matrix.value);
-    free(s->rhs);
-    free(s->solution);
-    free(s->unknown_of);
     linear_solver_destroy(s->linear);
     coupling_free(s->coupling);
     phases_free(s->phases);
@@ -215,20 +189,10 @@ int solver_allocate(mps2p_solver *s, size_t n, int fluid_count)
     s->count = n;
     s->fluid_count = fluid_count;
     s->fluids = malloc((size_t)fluid_count * sizeof *s->fluids);
-    s->kind = malloc(n * sizeof *s->kind);
-    s->fluid_id = malloc(n * sizeof *s->fluid_id);
-    s->density = malloc(n * sizeof *s->density);
-    s->viscosity = malloc(n * sizeof *s->viscosity);
-    s->number_density = calloc(n, sizeof *s->number_density);
-    s->scratch = malloc(2 * n * sizeof *s->scratch);
-    s->on_surface = calloc(n, sizeof *s->on_surface);
-    s->rhs = malloc(n * sizeof *s->rhs);
-    s->solution = malloc(n * sizeof *s->solution);
-    s->unknown_of = malloc(n * sizeof *s->unknown_of);
-    if (!s->fluids || !s->kind || !s->fluid_id || !s->density || !s->viscosity ||
-        !s->number_density || !s->scratch || !s->on_surface || !s->rhs || !s->solution ||
-        !s->unknown_of || alloc_state(&s->state, n) != MPS2P_OK ||
-        alloc_state(&s->saved, n) != MPS2P_OK)
+    s->before_step = calloc(1, sizeof *s->before_step);
+    if (!s->fluids || !s->before_step ||
+        fields_allocate(&solver_fields, s, n, 0, FIELD_ON_DEMAND) != MPS2P_OK ||
+        fields_allocate(&solver_fields, s->before_step, n, FIELD_ROLLED_BACK, 0) != MPS2P_OK)
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory creating a solver for %zu particles", n);
     return MPS2P_OK;
 }
@@ -352,20 +316,16 @@ int mps2p_solver_create(const mps2p_scene *scene, mps2p_solver **solver)
 
 static void save_state(mps2p_solver *s)
 {
-    memcpy(s->saved.position, s->state.position, 2 * s->count * sizeof(double));
-    memcpy(s->saved.velocity, s->state.velocity, 2 * s->count * sizeof(double));
-    memcpy(s->saved.pressure, s->state.pressure, s->count * sizeof(double));
+    fields_copy(&solver_fields, s->before_step, s, s->count, FIELD_ROLLED_BACK);
     if (s->phases)
         phases_save_before_step(s);
 }
 
 static void restore_state(mps2p_solver *s)
 {
-    memcpy(s->state.position, s->saved.position, 2 * s->count * sizeof(double));
-    memcpy(s->state.velocity, s->saved.velocity, 2 * s->count * sizeof(double));
-    memcpy(s->state.pressure, s->saved.pressure, s->count * sizeof(double));
+    fields_copy(&solver_fields, s, s->before_step, s->count, FIELD_ROLLED_BACK);
     if (s->phases)
-        phases_put_carried(s, s->phases->before_step);
+        phases_put_carried(s, s->phases->before_step, FIELD_ROLLED_BACK);
 }
 
 /* One step of length dt: the plan of stages (stages.c), rolled back on

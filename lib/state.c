@@ -12,21 +12,14 @@
 #include <string.h>
 
 struct mps2p_state {
-    /* the shape of the solver it came from */
-    size_t count;
-    int fluid_count, body_count;
-    int *kind, *body_of;
-    /* the state of the particles and of the neighbour list */
-    double *position, *velocity, *pressure, *number_density, *built_at;
-    unsigned char *on_surface;
+    /* the saved and matched members of the solver it came from (its table's
+     * rows), nothing else allocated */
+    mps2p_solver *solver;
+    int body_count, *body_of;
+    /* the neighbour list's */
+    double *built_at;
     unsigned long builds;
     int stale;
-    /* parameters (gravity changes between windows), time, counters */
-    params params;
-    double time, last_dt, ppe_residual;
-    uint64_t steps, ppe_iterations_total;
-    size_t ppe_unknowns, ppe_iterations, surface_particles;
-    int diverged;
     /* the host's inputs: per body velocity, angular velocity, about, and the
      * targets of one step (NULL when none); accelerations (NULL when none) */
     double (*motion)[5];
@@ -36,18 +29,17 @@ struct mps2p_state {
     struct two_phase *phases;
 };
 
+#define STATE_ROWS (FIELD_SAVED | FIELD_MATCHED)
+
 void mps2p_state_destroy(mps2p_state *st)
 {
     if (!st)
         return;
-    free(st->kind);
+    if (st->solver)
+        fields_free(&solver_fields, st->solver);
+    free(st->solver);
     free(st->body_of);
-    free(st->position);
-    free(st->velocity);
-    free(st->pressure);
-    free(st->number_density);
     free(st->built_at);
-    free(st->on_surface);
     for (int b = 0; st->target && b < st->body_count; b++)
         free(st->target[b]);
     free(st->target);
@@ -70,19 +62,15 @@ static int copy_arrays(mps2p_state *st, const mps2p_solver *s)
 {
     const size_t n = s->count;
     const struct coupling *c = s->coupling;
-    int ok = (st->kind = copy_of(s->kind, n * sizeof *s->kind)) &&
+    int ok = (st->solver = calloc(1, sizeof *st->solver)) &&
+             fields_allocate(&solver_fields, st->solver, n, STATE_ROWS, 0) == MPS2P_OK &&
              (st->body_of = copy_of(c->body_of, n * sizeof *c->body_of)) &&
-             (st->position = copy_of(s->state.position, 2 * n * sizeof(double))) &&
-             (st->velocity = copy_of(s->state.velocity, 2 * n * sizeof(double))) &&
-             (st->pressure = copy_of(s->state.pressure, n * sizeof(double))) &&
-             (st->number_density = copy_of(s->number_density, n * sizeof(double))) &&
              (st->built_at = copy_of(s->neighbours.built_at, 2 * n * sizeof(double))) &&
-             (st->on_surface = copy_of(s->on_surface, n)) &&
              (st->motion = malloc((size_t)c->body_count * sizeof *st->motion)) &&
              (st->target = calloc((size_t)c->body_count, sizeof *st->target)) &&
              (!c->acceleration ||
               (st->acceleration = copy_of(c->acceleration, 2 * n * sizeof(double)))) &&
-             (!s->phases || (st->phases = phases_copy_carried(s)));
+             (!s->phases || (st->phases = phases_copy_carried(s, STATE_ROWS)));
     for (int b = 0; ok && b < c->body_count; b++) {
         const body *bd = &c->bodies[b];
         st->motion[b][0] = bd->velocity[0];
@@ -93,6 +81,8 @@ static int copy_arrays(mps2p_state *st, const mps2p_solver *s)
         if (bd->target)
             ok = (st->target[b] = copy_of(bd->target, 2 * bd->particles * sizeof(double))) != NULL;
     }
+    if (ok)
+        fields_copy(&solver_fields, st->solver, s, n, STATE_ROWS);
     return ok;
 }
 
@@ -105,11 +95,8 @@ int mps2p_solver_save_state(const mps2p_solver *s, mps2p_state **state)
     if (!s)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_save_state: solver is NULL");
     mps2p_state *st = calloc(1, sizeof *st);
-    if (st) {
-        st->count = s->count;
-        st->fluid_count = s->fluid_count;
+    if (st)
         st->body_count = s->coupling->body_count;
-    }
     if (!st || !copy_arrays(st, s)) {
         mps2p_state_destroy(st);
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory saving the state of %zu particles",
@@ -117,16 +104,6 @@ int mps2p_solver_save_state(const mps2p_solver *s, mps2p_state **state)
     }
     st->builds = s->neighbours.builds;
     st->stale = s->neighbours.stale;
-    st->params = s->params;
-    st->time = s->time;
-    st->last_dt = s->last_dt;
-    st->ppe_residual = s->ppe_residual;
-    st->steps = s->steps;
-    st->ppe_iterations_total = s->ppe_iterations_total;
-    st->ppe_unknowns = s->ppe_unknowns;
-    st->ppe_iterations = s->ppe_iterations;
-    st->surface_particles = s->surface_particles;
-    st->diverged = s->diverged;
     *state = st;
     return MPS2P_OK;
 }
@@ -136,12 +113,12 @@ int mps2p_solver_save_state(const mps2p_solver *s, mps2p_state **state)
  * the same scene). */
 static int same_shape(const mps2p_solver *s, const mps2p_state *st)
 {
-    return st->count == s->count && st->fluid_count == s->fluid_count &&
+    return fields_equal(&solver_fields, st->solver, s, s->count, FIELD_MATCHED) &&
            st->body_count == s->coupling->body_count &&
-           memcmp(st->kind, s->kind, s->count * sizeof *s->kind) == 0 &&
            memcmp(st->body_of, s->coupling->body_of, s->count * sizeof *st->body_of) == 0 &&
            !st->phases == !s->phases &&
-           (!s->phases || memcmp(st->phases->light, s->phases->light, s->count) == 0);
+           (!s->phases ||
+            fields_equal(&two_phase_fields, st->phases, s->phases, s->count, FIELD_MATCHED));
 }
 
 /* Buffers the solver lacks for the state's targets and accelerations, all
@@ -205,7 +182,7 @@ int mps2p_solver_restore_state(mps2p_solver *s, const mps2p_state *st)
                     "mps2p_solver_restore_state: the state is of another solver (%zu particles, "
                     "%d fluids, %d bodies, %s; this one has %zu, %d, %d, %s, or other kinds, "
                     "bodies or light particles)",
-                    st->count, st->fluid_count, st->body_count,
+                    st->solver->count, st->solver->fluid_count, st->body_count,
                     st->phases ? "two phases" : "one phase", s->count, s->fluid_count,
                     s->coupling->body_count, s->phases ? "two phases" : "one phase");
     double **fresh = calloc((size_t)st->body_count, sizeof *fresh), *acceleration = NULL;
@@ -221,23 +198,9 @@ int mps2p_solver_restore_state(mps2p_solver *s, const mps2p_state *st)
     free(fresh);
 
     const size_t n = s->count;
-    memcpy(s->state.position, st->position, 2 * n * sizeof(double));
-    memcpy(s->state.velocity, st->velocity, 2 * n * sizeof(double));
-    memcpy(s->state.pressure, st->pressure, n * sizeof(double));
-    memcpy(s->number_density, st->number_density, n * sizeof(double));
-    memcpy(s->on_surface, st->on_surface, n);
-    s->params = st->params;
-    s->time = st->time;
-    s->last_dt = st->last_dt;
-    s->ppe_residual = st->ppe_residual;
-    s->steps = st->steps;
-    s->ppe_iterations_total = st->ppe_iterations_total;
-    s->ppe_unknowns = st->ppe_unknowns;
-    s->ppe_iterations = st->ppe_iterations;
-    s->surface_particles = st->surface_particles;
-    s->diverged = st->diverged;
+    fields_copy(&solver_fields, s, st->solver, n, FIELD_SAVED);
     if (s->phases)
-        phases_put_carried(s, st->phases);
+        phases_put_carried(s, st->phases, FIELD_SAVED);
 
     /* the same pairs as when saved: rebuilt from the build positions unless
      * the list still holds them */
