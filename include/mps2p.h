@@ -503,10 +503,15 @@ MPS2P_API int mps2p_solver_effect_count(const mps2p_solver *solver, size_t *coun
 MPS2P_API int mps2p_solver_get_effect(const mps2p_solver *solver, size_t index,
                                       const char **name, int *active, const char **reason);
 
-/* The stages of a step in their order (neighbours, viscosity, gravity, ...,
- * pressure_assembly, pressure_solve, correction, divergence_check): whether
- * each is in this solver's step, its wall time in seconds and its calls since
- * creation or the last reset. Timing costs two clock reads per stage. */
+/* The stages of a step, index 0 to count - 1 in the order a step runs them
+ * (neighbours, number_density_start, ..., viscosity, ..., advection,
+ * collision, number_density, ..., pressure_solve, ..., correction, ...,
+ * divergence_check; docs/internals.md lists them): whether each is in this
+ * solver's next step, its wall time in seconds and its calls since creation
+ * or the last reset. neighbours (index 0) also runs after advection and
+ * collision, each run a call. Names stay; an index moves when a stage is
+ * added before it, so look stages up by name. Timing costs two clock reads
+ * per stage. */
 MPS2P_API int mps2p_solver_stage_count(const mps2p_solver *solver, size_t *count);
 MPS2P_API int mps2p_solver_get_stage(const mps2p_solver *solver, size_t index,
                                      const char **name, int *active, double *seconds,

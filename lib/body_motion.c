@@ -70,7 +70,7 @@ static void move_to_targets(mps2p_solver *s, body *b, double dt)
     }
 }
 
-void body_motion_apply(mps2p_solver *s, double dt)
+int body_motion_apply(mps2p_solver *s, double dt)
 {
     for (int k = 0; k < s->coupling->body_count; k++) {
         body *b = &s->coupling->bodies[k];
@@ -79,6 +79,7 @@ void body_motion_apply(mps2p_solver *s, double dt)
         else if (body_moves(b))
             move_rigidly(s, b, dt);
     }
+    return MPS2P_OK;
 }
 
 static int check_solver_body(mps2p_solver *s, int body_id, const char *function)
@@ -118,7 +119,8 @@ int mps2p_solver_set_body_motion(mps2p_solver *s, int body_id, const double velo
     b->about[1] = about ? about[1] : 0.0;
     if (!body_moves(b))
         rest(s, b);
-    return plan_build(s);
+    s->plan_stale = 1;
+    return MPS2P_OK;
 }
 
 int mps2p_solver_set_body_positions(mps2p_solver *s, int body_id, const double *positions,
@@ -134,7 +136,8 @@ int mps2p_solver_set_body_positions(mps2p_solver *s, int body_id, const double *
         b->target = NULL;
         if (!body_moves(b))
             rest(s, b);
-        return plan_build(s);
+        s->plan_stale = 1;
+        return MPS2P_OK;
     }
     if (length != 2 * b->particles)
         return fail(s->error, MPS2P_ERR_BUFFER,
@@ -149,21 +152,23 @@ int mps2p_solver_set_body_positions(mps2p_solver *s, int body_id, const double *
         return fail(s->error, MPS2P_ERR_NOMEM, "out of memory for %zu body positions",
                     b->particles);
     memcpy(b->target, positions, length * sizeof *positions);
-    return plan_build(s);
+    s->plan_stale = 1;
+    return MPS2P_OK;
 }
 
 /* After a step that succeeded (a failed one is rolled back and keeps its
- * inputs): the rotation centres move on with their bodies, and targets,
- * used by one step, are dropped. */
-int body_motion_done(mps2p_solver *s, double dt)
+ * inputs) with stage body_motion: the rotation centres move on with their
+ * bodies, and targets, used by one step, are dropped. */
+void body_motion_done(mps2p_solver *s, double dt)
 {
-    int dropped = 0;
+    if (!body_motion_wanted(s)) /* nothing moved: about stays bitwise as it is */
+        return;
     for (int k = 0; k < s->coupling->body_count; k++) {
         body *b = &s->coupling->bodies[k];
         if (b->target) {
             free(b->target);
             b->target = NULL;
-            dropped = 1;
+            s->plan_stale = 1;
             if (!body_moves(b))
                 rest(s, b);
         } else {
@@ -171,5 +176,4 @@ int body_motion_done(mps2p_solver *s, double dt)
             b->about[1] += dt * b->velocity[1];
         }
     }
-    return dropped ? plan_build(s) : MPS2P_OK;
 }

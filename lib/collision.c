@@ -10,10 +10,10 @@
 #include <math.h>
 #include <string.h>
 
-void collision_apply(mps2p_solver *s, double dt)
+int collision_apply(mps2p_solver *s, double dt)
 {
     if (s->params.collision_distance <= 0.0)
-        return;
+        return MPS2P_OK;
     const double limit = s->params.collision_distance * s->l0;
     const double e = s->params.collision_restitution;
     /* The share of the impulse given in one step: dt / tau, at most 1, tau =
@@ -74,4 +74,5 @@ void collision_apply(mps2p_solver *s, double dt)
         velocity[2 * i] = updated[2 * i];
         velocity[2 * i + 1] = updated[2 * i + 1];
     });
+    return MPS2P_OK;
 }

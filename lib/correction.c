@@ -34,7 +34,7 @@ static void pressure_gradient_at(const mps2p_solver *s, size_t i, const double *
     }
 }
 
-void pressure_correct(mps2p_solver *s, double dt)
+int pressure_correct(mps2p_solver *s, double dt)
 {
     double *position = s->state.position, *velocity = s->state.velocity;
     const double *pressure = s->state.pressure;
@@ -59,4 +59,5 @@ void pressure_correct(mps2p_solver *s, double dt)
         position[2 * i] += dt * change[2 * i];
         position[2 * i + 1] += dt * change[2 * i + 1];
     });
+    return MPS2P_OK;
 }

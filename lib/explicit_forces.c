@@ -7,7 +7,7 @@
 
 #include <math.h>
 
-void viscosity_apply(mps2p_solver *s, double dt)
+int viscosity_apply(mps2p_solver *s, double dt)
 {
     double *velocity = s->state.velocity;
     double *acceleration = s->scratch;
@@ -34,9 +34,10 @@ void viscosity_apply(mps2p_solver *s, double dt)
         velocity[2 * i] += dt * acceleration[2 * i];
         velocity[2 * i + 1] += dt * acceleration[2 * i + 1];
     });
+    return MPS2P_OK;
 }
 
-void gravity_apply(mps2p_solver *s, double dt)
+int gravity_apply(mps2p_solver *s, double dt)
 {
     double *velocity = s->state.velocity;
     const double gx = dt * s->params.gravity[0], gy = dt * s->params.gravity[1];
@@ -46,12 +47,13 @@ void gravity_apply(mps2p_solver *s, double dt)
         velocity[2 * i] += gx;
         velocity[2 * i + 1] += gy;
     }
+    return MPS2P_OK;
 }
 
 /* Base excitation: the tank accelerates by A sin(2 pi t / T) along x, so in
  * its frame every fluid particle feels -A sin(2 pi t / T); t is the step's
  * start, as for every explicit force. */
-void excitation_apply(mps2p_solver *s, double dt)
+int excitation_apply(mps2p_solver *s, double dt)
 {
     double *velocity = s->state.velocity;
     const double omega = 2.0 * 3.14159265358979323846 / s->params.excitation_period;
@@ -59,9 +61,10 @@ void excitation_apply(mps2p_solver *s, double dt)
     for (size_t i = 0; i < s->count; i++)
         if (s->kind[i] == MPS2P_KIND_FLUID)
             velocity[2 * i] += dt * ax;
+    return MPS2P_OK;
 }
 
-void advect(mps2p_solver *s, double dt)
+int advect(mps2p_solver *s, double dt)
 {
     double *position = s->state.position;
     const double *velocity = s->state.velocity;
@@ -71,4 +74,5 @@ void advect(mps2p_solver *s, double dt)
         position[2 * i] += dt * velocity[2 * i];
         position[2 * i + 1] += dt * velocity[2 * i + 1];
     }
+    return MPS2P_OK;
 }

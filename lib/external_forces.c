@@ -14,7 +14,7 @@ int external_forces_wanted(const mps2p_solver *s)
     return s->coupling && s->coupling->acceleration;
 }
 
-void external_forces_apply(mps2p_solver *s, double dt)
+int external_forces_apply(mps2p_solver *s, double dt)
 {
     double *u = s->state.velocity;
     const double *a = s->coupling->acceleration;
@@ -24,6 +24,7 @@ void external_forces_apply(mps2p_solver *s, double dt)
         u[2 * i] += dt * a[2 * i];
         u[2 * i + 1] += dt * a[2 * i + 1];
     }
+    return MPS2P_OK;
 }
 
 int mps2p_solver_set_gravity(mps2p_solver *s, double gx, double gy)
@@ -38,15 +39,16 @@ int mps2p_solver_set_gravity(mps2p_solver *s, double gx, double gy)
     s->params.gravity[0] = gx;
     s->params.gravity[1] = gy;
     /* effect.gravity "auto" follows; "on" refuses zero gravity, as at creation */
-    int status = plan_build(s);
+    int status = effects_decide(s);
     if (status != MPS2P_OK) {
         s->params.gravity[0] = before[0];
         s->params.gravity[1] = before[1];
         char why[ERROR_MESSAGE_SIZE];
         snprintf(why, sizeof why, "%s", mps2p_last_error());
-        plan_build(s);
+        effects_decide(s);
         return fail(s->error, status, "mps2p_solver_set_gravity: %s", why);
     }
+    s->plan_stale = 1;
     return MPS2P_OK;
 }
 
@@ -70,7 +72,8 @@ int mps2p_solver_set_body_forces(mps2p_solver *s, const double *accelerations, s
     if (!accelerations) {
         free(c->acceleration);
         c->acceleration = NULL;
-        return plan_build(s);
+        s->plan_stale = 1;
+        return MPS2P_OK;
     }
     if (length != 2 * s->count)
         return fail(s->error, MPS2P_ERR_BUFFER,
@@ -84,5 +87,6 @@ int mps2p_solver_set_body_forces(mps2p_solver *s, const double *accelerations, s
     if (!c->acceleration && !(c->acceleration = malloc(length * sizeof *c->acceleration)))
         return fail(s->error, MPS2P_ERR_NOMEM, "out of memory for %zu accelerations", s->count);
     memcpy(c->acceleration, accelerations, length * sizeof *accelerations);
-    return plan_build(s);
+    s->plan_stale = 1;
+    return MPS2P_OK;
 }

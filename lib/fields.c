@@ -108,19 +108,24 @@ static int wanted(const field *f, unsigned with, unsigned without)
     return (!with || (f->flags & with)) && !(f->flags & without);
 }
 
+int field_allocate(const field *f, void *object, size_t count)
+{
+    if (!(f->flags & FIELD_PER_PARTICLE) || field_data(object, f))
+        return MPS2P_OK;
+    void *data = calloc(count ? count : 1, field_bytes(f, 1));
+    if (!data)
+        return MPS2P_ERR_NOMEM;
+    set_array(object, f, data);
+    return MPS2P_OK;
+}
+
 int fields_allocate(const field_table *t, void *object, size_t count, unsigned with,
                     unsigned without)
 {
-    for (size_t k = 0; k < t->count; k++) {
-        const field *f = &t->rows[k];
-        if (!(f->flags & FIELD_PER_PARTICLE) || !wanted(f, with, without) ||
-            field_data(object, f))
-            continue;
-        void *data = calloc(count ? count : 1, field_bytes(f, 1));
-        if (!data)
+    for (size_t k = 0; k < t->count; k++)
+        if (wanted(&t->rows[k], with, without) &&
+            field_allocate(&t->rows[k], object, count) != MPS2P_OK)
             return MPS2P_ERR_NOMEM;
-        set_array(object, f, data);
-    }
     return MPS2P_OK;
 }
 

@@ -21,8 +21,9 @@ static double lattice_neighbours(double re)
     return count;
 }
 
-void neighbour_count_compute(mps2p_solver *s)
+int neighbour_count_compute(mps2p_solver *s, double dt)
 {
+    (void)dt;
     const double re = s->params.re_density * s->l0, re2 = re * re;
     const neighbour_list *nl = &s->neighbours;
     const double *position = s->state.position;
@@ -37,10 +38,12 @@ void neighbour_count_compute(mps2p_solver *s)
         }
         s->neighbour_count[i] = count;
     });
+    return MPS2P_OK;
 }
 
-void free_surface_detect(mps2p_solver *s)
+int free_surface_detect(mps2p_solver *s, double dt)
 {
+    (void)dt;
     const double threshold = s->params.beta * s->n0_density;
     const int by_count = s->params.free_surface == FREE_SURFACE_NEIGHBOUR_COUNT;
     const double fewest = s->params.beta_count * lattice_neighbours(s->params.re_density);
@@ -54,4 +57,5 @@ void free_surface_detect(mps2p_solver *s)
         surface += (size_t)is_surface;
     });
     s->surface_particles = surface;
+    return MPS2P_OK;
 }

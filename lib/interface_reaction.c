@@ -39,8 +39,9 @@
 
 #define PI 3.14159265358979323846
 
-void interface_scan(mps2p_solver *s)
+int interface_scan(mps2p_solver *s, double dt)
 {
+    (void)dt;
     two_phase *tp = s->phases;
     const double radius = 1.2 * s->params.re_density * s->l0, r2max = radius * radius;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, radius);
@@ -88,10 +89,12 @@ void interface_scan(mps2p_solver *s)
     }
     tp->triggered_count = triggered;
     tp->enclosed_count = enclosed;
+    return MPS2P_OK;
 }
 
-void interface_join(mps2p_solver *s)
+int interface_join(mps2p_solver *s, double dt)
 {
+    (void)dt;
     two_phase *tp = s->phases;
     const int hold_on = s->params.join_hold != 0.0;
     const int enclosed_on = s->params.join_enclosed != 0.0;
@@ -109,6 +112,7 @@ void interface_join(mps2p_solver *s)
         joined += tp->joined[i];
     }
     tp->joined_count = joined;
+    return MPS2P_OK;
 }
 
 void interface_reaction_apply(mps2p_solver *s, double dt, double *change)
@@ -158,7 +162,7 @@ void interface_reaction_apply(mps2p_solver *s, double dt, double *change)
  * g tau (0.2 m/s for tau = 0.02 s) off the slip and the bubble does not rise
  * (measured: docs/two-phase.md). Its position follows the correction's
  * convention, r += dt du. Without liquid neighbours nothing is changed. */
-void interface_drift_apply(mps2p_solver *s, double dt)
+int interface_drift_apply(mps2p_solver *s, double dt)
 {
     two_phase *tp = s->phases;
     const double re = s->params.re_density * s->l0, re2 = re * re;
@@ -197,4 +201,5 @@ void interface_drift_apply(mps2p_solver *s, double dt)
             r[2 * i + d] += dt * du;
         }
     }
+    return MPS2P_OK;
 }

@@ -114,8 +114,10 @@ size_t field_element_size(const field *f);
 size_t field_bytes(const field *f, size_t count);
 /* The values: the array a per-particle member points to, else the member. */
 void *field_data(const void *object, const field *f);
-/* Allocates (zeroed) the arrays of rows with any flag of with (0: every
- * row) and none of without, where not allocated yet. */
+/* Allocates (zeroed) the row's array where it is not allocated yet. */
+int field_allocate(const field *f, void *object, size_t count);
+/* The same for the rows with any flag of with (0: every row) and none of
+ * without. */
 int fields_allocate(const field_table *t, void *object, size_t count, unsigned with,
                     unsigned without);
 void fields_free(const field_table *t, void *object);
@@ -387,36 +389,8 @@ int linear_solver_solve(linear_solver *solver, const sparse_matrix *a,
 
 /* ---- the step's stages (stages.c) ---- */
 
-enum stage_id {
-    STAGE_NEIGHBOURS,
-    STAGE_NUMBER_DENSITY_START,
-    STAGE_BODY_MOTION,
-    STAGE_VISCOSITY,
-    STAGE_GRAVITY,
-    STAGE_EXTERNAL_FORCES,
-    STAGE_ADVECTION,
-    STAGE_COLLISION,
-    STAGE_NUMBER_DENSITY,
-    STAGE_FREE_SURFACE,
-    STAGE_PRESSURE_ASSEMBLY,
-    STAGE_PRESSURE_SOLVE,
-    STAGE_CORRECTION,
-    STAGE_DIVERGENCE_CHECK,
-    /* two phases (phases.c, interface_reaction.c, gas_pressure.c) */
-    STAGE_PHASES_START,
-    STAGE_INTERFACE_SCAN,
-    STAGE_INTERFACE_JOIN,
-    STAGE_LIQUID_PRESSURE,
-    STAGE_GAS_PRESSURE,
-    STAGE_TWO_PHASE_CORRECTION,
-    STAGE_INTERFACE_DRIFT,
-    STAGE_GAS_DIVERGENCE_CHECK,
-    STAGE_TURBULENCE,
-    STAGE_NEIGHBOUR_COUNT,
-    STAGE_EXCITATION,
-    STAGE_COUNT
-};
-#define PLAN_CAPACITY 32
+#define STAGE_COUNT 25   /* rows of the stage table (stages.c) */
+#define PLAN_CAPACITY 32 /* the stages of a step, with the neighbour list's updates */
 #define EFFECT_REASON_SIZE 160
 
 /* ---- two phases (phases.c, interface_reaction.c, gas_pressure.c) ---- */
@@ -462,16 +436,16 @@ int phases_init(mps2p_solver *s);
 void phases_free(struct two_phase *tp);
 size_t phases_memory_bytes(const mps2p_solver *s);
 /* Stages of a two-phase step, in the order of the plan (stages.c). */
-void phases_step_start(mps2p_solver *s);                 /* liquid's own n^k */
-void interface_scan(mps2p_solver *s);                    /* interface_reaction.c */
-void interface_join(mps2p_solver *s);                    /* interface_reaction.c */
+int phases_step_start(mps2p_solver *s, double dt);       /* liquid's own n^k */
+int interface_scan(mps2p_solver *s, double dt);          /* interface_reaction.c */
+int interface_join(mps2p_solver *s, double dt);          /* interface_reaction.c */
 int liquid_pressure_solve(mps2p_solver *s, double dt);   /* phases.c */
 /* The gas PPE, then the state's pressure per phase (phases_pressure_combine). */
 int gas_pressure_solve(mps2p_solver *s, double dt);      /* gas_pressure.c */
 void phases_pressure_combine(mps2p_solver *s);           /* phases.c */
-void phases_correct(mps2p_solver *s, double dt);         /* per phase, plus reaction */
+int phases_correct(mps2p_solver *s, double dt);          /* per phase, plus reaction */
 void interface_reaction_apply(mps2p_solver *s, double dt, double *change);
-void interface_drift_apply(mps2p_solver *s, double dt);
+int interface_drift_apply(mps2p_solver *s, double dt);
 int phases_divergence_check(mps2p_solver *s, double dt);
 /* Two-phase statistics by name (0 when off); MPS2P_ERR_UNKNOWN_KEY if not one. */
 int phases_get_stat(const mps2p_solver *s, const char *key, double *value);
@@ -565,9 +539,9 @@ struct mps2p_solver {
     /* the step, assembled from the effects the scene needs (stages.c) */
     int effect_active[EFFECT_COUNT];
     char effect_reason[EFFECT_COUNT][EFFECT_REASON_SIZE];
-    int plan[PLAN_CAPACITY];
+    int plan[PLAN_CAPACITY]; /* rows of the stage table */
     size_t plan_length;
-    int stage_active[STAGE_COUNT];
+    int plan_stale;          /* an input changed what the plan holds: rebuilt before a step */
     double stage_seconds[STAGE_COUNT];
     uint64_t stage_calls[STAGE_COUNT];
 
@@ -577,8 +551,10 @@ struct mps2p_solver {
 /* Decides every effect from the scene and the requests (effects.c). */
 int effects_decide(mps2p_solver *s);
 const char *effect_name(int effect);
-/* Decides the effects and lays out the step's stages; allocates what only
- * an active stage needs (stages.c). */
+/* Lays out the step's stages for the effects decided (effects_decide) and
+ * allocates what only an active stage needs (stages.c). Inputs that change
+ * the plan decide the effects and set s->plan_stale instead: the step
+ * rebuilds it. */
 int plan_build(mps2p_solver *s);
 /* Runs one step's stages in order, timing each; stops at the first error. */
 int plan_run(mps2p_solver *s, double dt);
@@ -619,10 +595,10 @@ int coupling_create(mps2p_solver *s, const mps2p_scene *scene);
 void coupling_free(struct coupling *c);
 int body_motion_wanted(const mps2p_solver *s);
 int external_forces_wanted(const mps2p_solver *s);
-void body_motion_apply(mps2p_solver *s, double dt);
-void external_forces_apply(mps2p_solver *s, double dt);
+int body_motion_apply(mps2p_solver *s, double dt);
+int external_forces_apply(mps2p_solver *s, double dt);
 /* After a step that succeeded: rotation centres move on, targets dropped. */
-int body_motion_done(mps2p_solver *s, double dt);
+void body_motion_done(mps2p_solver *s, double dt);
 
 /* ---- output files ---- */
 
@@ -674,17 +650,22 @@ double timestep_choose(const mps2p_solver *s);                   /* timestep.c *
 void timestep_explain(const mps2p_solver *s, char *out, size_t size);
 /* mps2p_solver_advance_to refuses a window that would take more steps. */
 #define MAX_STEPS_PER_ADVANCE 1e9
-void viscosity_apply(mps2p_solver *s, double dt);                 /* explicit_forces.c */
-void gravity_apply(mps2p_solver *s, double dt);                   /* explicit_forces.c */
-void excitation_apply(mps2p_solver *s, double dt);                /* explicit_forces.c */
-void turbulence_apply(mps2p_solver *s, double dt);                /* turbulence.c */
-void advect(mps2p_solver *s, double dt);                          /* explicit_forces.c */
-void collision_apply(mps2p_solver *s, double dt);                 /* collision.c */
-void number_density_compute(mps2p_solver *s, double *out);                     /* number_density.c */
-void free_surface_detect(mps2p_solver *s);                        /* free_surface.c */
-void neighbour_count_compute(mps2p_solver *s);                    /* free_surface.c */
+/* The stages, each run by the plan as int (*)(mps2p_solver *, double dt). */
+int neighbours_refresh(mps2p_solver *s, double dt);               /* neighbour_update.c */
+int viscosity_apply(mps2p_solver *s, double dt);                  /* explicit_forces.c */
+int gravity_apply(mps2p_solver *s, double dt);                    /* explicit_forces.c */
+int excitation_apply(mps2p_solver *s, double dt);                 /* explicit_forces.c */
+int turbulence_apply(mps2p_solver *s, double dt);                 /* turbulence.c */
+int advect(mps2p_solver *s, double dt);                           /* explicit_forces.c */
+int collision_apply(mps2p_solver *s, double dt);                  /* collision.c */
+/* n into out (number_density.c); the stages: n^k at the step's start, n* at r* */
+void number_density_compute(mps2p_solver *s, double *out);
+int number_density_start(mps2p_solver *s, double dt);
+int number_density_star(mps2p_solver *s, double dt);
+int free_surface_detect(mps2p_solver *s, double dt);              /* free_surface.c */
+int neighbour_count_compute(mps2p_solver *s, double dt);          /* free_surface.c */
 int pressure_assemble(mps2p_solver *s, double dt);                /* pressure.c */
-int pressure_solve(mps2p_solver *s);                              /* pressure.c */
+int pressure_solve(mps2p_solver *s, double dt);                   /* pressure.c */
 /* One PPE over a subset of the particles (pressure.c), for the two phases'
  * solves: part marks the participants (NULL = every non-dummy particle),
  * surface the Dirichlet ones; n_star, n_start and density enter the source
@@ -703,7 +684,7 @@ typedef struct ppe_system {
 } ppe_system;
 int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys);
 int pressure_solve_system(mps2p_solver *s, ppe_system *sys);
-void pressure_correct(mps2p_solver *s, double dt);                /* correction.c */
+int pressure_correct(mps2p_solver *s, double dt);                 /* correction.c */
 int diverged_at(mps2p_solver *s, size_t i, int status);           /* divergence.c */
 int divergence_check(mps2p_solver *s, double dt);                 /* divergence.c */
 

@@ -1,4 +1,6 @@
-/* Particle number density n_i = sum_j w(|r_ij|) with the density radius. */
+/* Particle number density n_i = sum_j w(|r_ij|) with the density radius,
+ * for the stages number_density_start (n^k, for the mixed and ecs PPE
+ * sources) and number_density (n* at r*). */
 #include "internal.h"
 
 #include <math.h>
@@ -19,4 +21,18 @@ void number_density_compute(mps2p_solver *s, double *out)
         }
         out[i] = n;
     });
+}
+
+int number_density_start(mps2p_solver *s, double dt)
+{
+    (void)dt;
+    number_density_compute(s, s->number_density_start);
+    return MPS2P_OK;
+}
+
+int number_density_star(mps2p_solver *s, double dt)
+{
+    (void)dt;
+    number_density_compute(s, s->number_density);
+    return MPS2P_OK;
 }

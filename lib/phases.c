@@ -105,14 +105,16 @@ static void heavy_number_density(const mps2p_solver *s, double *out)
     }
 }
 
-void phases_step_start(mps2p_solver *s)
+int phases_step_start(mps2p_solver *s, double dt)
 {
+    (void)dt;
     two_phase *tp = s->phases;
     heavy_number_density(s, tp->heavy_n_start);
     if (!tp->have_initial) {
         memcpy(tp->heavy_n_initial, tp->heavy_n_start, s->count * sizeof(double));
         tp->have_initial = 1;
     }
+    return MPS2P_OK;
 }
 
 /* A light particle moved by the liquid's pressure: volume, or drift with
@@ -237,7 +239,7 @@ static double continuity_density(const mps2p_solver *s, size_t i, double rho_eff
  *   dv/dt = (1 + C_m)(-grad p) + (rho_a + C_m rho_l) g; in hydrostatic liquid
  *   it rises with (rho_l - rho_a) / (rho_a + C_m rho_l) g (C_m = 1: a 2D
  *   cylinder; 0.5: a sphere). */
-void phases_correct(mps2p_solver *s, double dt)
+int phases_correct(mps2p_solver *s, double dt)
 {
     two_phase *tp = s->phases;
     double *position = s->state.position, *velocity = s->state.velocity;
@@ -292,6 +294,7 @@ void phases_correct(mps2p_solver *s, double dt)
         position[2 * i] += dt * change[2 * i];
         position[2 * i + 1] += dt * change[2 * i + 1];
     }
+    return MPS2P_OK;
 }
 
 /* The gas's own failure (docs/method.md section 2): a gas particle squeezed by

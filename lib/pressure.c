@@ -82,8 +82,9 @@ int pressure_assemble(mps2p_solver *s, double dt)
     return status;
 }
 
-int pressure_solve(mps2p_solver *s)
+int pressure_solve(mps2p_solver *s, double dt)
 {
+    (void)dt;
     ppe_system sys = single_phase_system(s);
     int status = pressure_solve_system(s, &sys);
     s->ppe_iterations = sys.iterations;

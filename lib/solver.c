@@ -214,7 +214,8 @@ int solver_start(mps2p_solver *s)
                                       s->params.threads, &s->linear);
     if (status != MPS2P_OK)
         return fail(NULL, status, "out of memory starting the pressure solver");
-    return plan_build(s);
+    status = effects_decide(s);
+    return status == MPS2P_OK ? plan_build(s) : status;
 }
 
 static int build(mps2p_solver *s, const mps2p_scene *scene)
@@ -336,6 +337,11 @@ static int step_with(mps2p_solver *s, double dt, double ppe_min_dt)
         return fail(s->error, MPS2P_ERR_STATE,
                     "the solver diverged at t = %.6g s; it keeps its last good state but "
                     "cannot step further", s->time);
+    if (s->plan_stale) {
+        int status = plan_build(s);
+        if (status != MPS2P_OK)
+            return status;
+    }
     save_state(s);
     s->ppe_min_dt = ppe_min_dt;
     int status = plan_run(s, dt);
@@ -349,7 +355,8 @@ static int step_with(mps2p_solver *s, double dt, double ppe_min_dt)
     s->time += dt;
     s->last_dt = dt;
     s->steps++;
-    return s->stage_active[STAGE_BODY_MOTION] ? body_motion_done(s, dt) : MPS2P_OK;
+    body_motion_done(s, dt);
+    return MPS2P_OK;
 }
 
 int mps2p_solver_step(mps2p_solver *s)

@@ -213,7 +213,9 @@ int mps2p_solver_restore_state(mps2p_solver *s, const mps2p_state *st)
     if (status != MPS2P_OK)
         status = fail(s->error, status, "mps2p_solver_restore_state: out of memory for the "
                       "neighbour list (it is rebuilt at the next step)");
-    int planned = plan_build(s);
+    /* gravity may differ: the effects follow, the plan is rebuilt at the next step */
+    s->plan_stale = 1;
+    int planned = effects_decide(s);
     if (planned != MPS2P_OK && status == MPS2P_OK) {
         char why[ERROR_MESSAGE_SIZE];
         snprintf(why, sizeof why, "%s", mps2p_last_error());

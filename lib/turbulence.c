@@ -11,7 +11,7 @@
 
 #include <math.h>
 
-void turbulence_apply(mps2p_solver *s, double dt)
+int turbulence_apply(mps2p_solver *s, double dt)
 {
     double *velocity = s->state.velocity;
     double *eddy = s->eddy_viscosity, *change = s->scratch;
@@ -43,4 +43,5 @@ void turbulence_apply(mps2p_solver *s, double dt)
         velocity[2 * i + 1] += change[2 * i + 1];
     }
     s->eddy_viscosity_max = largest;
+    return MPS2P_OK;
 }
