@@ -76,6 +76,13 @@ int fail(char *handle_buffer, int status, const char *format, ...)
  * status calls it first, so a success leaves "" (one thread-local store). */
 void error_clear(void);
 
+/* A statistic for mps2p_solver_get_stat and mps2p_stat_info (stats.c). */
+typedef struct stat_entry {
+    const char *name, *description;
+    int is_count; /* a whole number of something */
+    double (*value)(const mps2p_solver *s);
+} stat_entry;
+
 /* ---- the state tables (fields.c) ---- */
 
 /* One row a member of a struct: an array of width values per particle
@@ -447,8 +454,9 @@ int phases_correct(mps2p_solver *s, double dt);          /* per phase, plus reac
 void interface_reaction_apply(mps2p_solver *s, double dt, double *change);
 int interface_drift_apply(mps2p_solver *s, double dt);
 int phases_divergence_check(mps2p_solver *s, double dt);
-/* Two-phase statistics by name (0 when off); MPS2P_ERR_UNKNOWN_KEY if not one. */
-int phases_get_stat(const mps2p_solver *s, const char *key, double *value);
+/* The two-phase statistics (phases_stats.c), after the solver's (stats.c). */
+extern const stat_entry two_phase_stats[];
+extern const size_t two_phase_stat_count;
 size_t gas_in_liquid_count(const mps2p_solver *s);                  /* gas_in_liquid.c */
 /* A light particle with more heavy-fluid than light-fluid neighbours within re. */
 int more_liquid_than_light_neighbours(const mps2p_solver *s, size_t i);

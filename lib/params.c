@@ -246,22 +246,37 @@ typedef struct option_entry {
     const char *key;
     size_t offset;
     const char *names[7]; /* NULL-terminated */
+    const char *description;
 } option_entry;
 
+#define EFFECT_CHOICES "auto: on when the scene needs it; on: required; off: left out"
 static const option_entry options[] = {
-    {"pressure_solver", offsetof(params, pressure_solver), {"cholmod", "cg", NULL}},
-    {"cg_preconditioner", offsetof(params, cg_preconditioner), {"jacobi", "ic0", NULL}},
-    {"pressure_gradient", offsetof(params, pressure_gradient), {"minimum", "corrected", NULL}},
-    {"ppe_source", offsetof(params, ppe_source), {"density", "mixed", "ecs", NULL}},
-    {"ppe_pattern", offsetof(params, ppe_pattern), {"distance", "neighbour_list", NULL}},
-    {"wall_ghosts", offsetof(params, wall_ghosts), {"none", "hydrostatic", NULL}},
-    {"free_surface", offsetof(params, free_surface), {"number_density", "neighbour_count", NULL}},
+    {"pressure_solver", offsetof(params, pressure_solver), {"cholmod", "cg", NULL},
+     "the pressure solver: sparse direct (cholmod) or preconditioned conjugate gradients"},
+    {"cg_preconditioner", offsetof(params, cg_preconditioner), {"jacobi", "ic0", NULL},
+     "CG's preconditioner: the diagonal (jacobi) or incomplete Cholesky (ic0)"},
+    {"pressure_gradient", offsetof(params, pressure_gradient), {"minimum", "corrected", NULL},
+     "corrected: p_i as reference and the corrective matrix; minimum: Koshizuka and Oka's, "
+     "the least pressure around as reference"},
+    {"ppe_source", offsetof(params, ppe_source), {"density", "mixed", "ecs", NULL},
+     "the PPE's source: error-compensating (ecs), gamma (n* - n0) (density), or mixed"},
+    {"ppe_pattern", offsetof(params, ppe_pattern), {"distance", "neighbour_list", NULL},
+     "the PPE matrix's pattern: pairs within re_laplacian, or every pair of the neighbour "
+     "list (CHOLMOD's analysis reused while the list stands)"},
+    {"wall_ghosts", offsetof(params, wall_ghosts), {"none", "hydrostatic", NULL},
+     "dummies and dry walls as hydrostatic ghosts p_i + rho_i g . r_ij, or not"},
+    {"free_surface", offsetof(params, free_surface), {"number_density", "neighbour_count", NULL},
+     "free surface where n* < beta n0, or also where a particle has few neighbours"},
     {"two_phase_model", offsetof(params, two_phase_model),
-     {"two_step_improved", "two_step", "single", NULL}},
+     {"two_step_improved", "two_step", "single", NULL},
+     "two phases: the improved model, Koshizuka's conventional two-step model, or one PPE "
+     "over every fluid"},
     {"interface_reaction", offsetof(params, interface_reaction),
-     {"volume", "wall", "pair", "push", "drift", "continuity", NULL}},
-#define EFFECT_OPTION(key, effect)                                               \
-    {key, offsetof(params, effect_mode) + (effect) * sizeof(int), {"auto", "on", "off", NULL}}
+     {"volume", "wall", "pair", "push", "drift", "continuity", NULL},
+     "what delta_al = 1 does in two_step_improved (docs/two-phase.md)"},
+#define EFFECT_OPTION(key, effect)                                                         \
+    {key, offsetof(params, effect_mode) + (effect) * sizeof(int), {"auto", "on", "off", NULL}, \
+     EFFECT_CHOICES}
     EFFECT_OPTION("effect.gravity", EFFECT_GRAVITY),
     EFFECT_OPTION("effect.excitation", EFFECT_EXCITATION),
     EFFECT_OPTION("effect.viscosity", EFFECT_VISCOSITY),
@@ -364,5 +379,75 @@ int mps2p_param_info(size_t index, const char **key, const char **description,
         *description = table[index].description;
     if (default_value)
         *default_value = table[index].default_value;
+    return MPS2P_OK;
+}
+
+int mps2p_param_count(size_t *count)
+{
+    error_clear();
+    if (!count)
+        return fail(NULL, MPS2P_ERR_NULL, "mps2p_param_count: count is NULL");
+    *count = TABLE_SIZE;
+    return MPS2P_OK;
+}
+
+/* The options, then "scheme" (it sets several of the others). */
+#define SCHEME_DESCRIPTION                                                                 \
+    "sets pressure_gradient, ppe_source, wall_ghosts, re_laplacian, collision_distance, "  \
+    "collision_time and gravity_number together (docs/validation.md); reads custom once "  \
+    "one of them differs"
+
+int mps2p_option_count(size_t *count)
+{
+    error_clear();
+    if (!count)
+        return fail(NULL, MPS2P_ERR_NULL, "mps2p_option_count: count is NULL");
+    *count = OPTION_COUNT + 1;
+    return MPS2P_OK;
+}
+
+static size_t choice_count(size_t index)
+{
+    if (index == OPTION_COUNT)
+        return SCHEME_COUNT;
+    size_t n = 0;
+    while (options[index].names[n])
+        n++;
+    return n;
+}
+
+int mps2p_option_info(size_t index, const char **key, const char **description,
+                      const char **default_choice, size_t *choices)
+{
+    error_clear();
+    if (index > OPTION_COUNT)
+        return fail(NULL, MPS2P_ERR_INVALID, "option index %zu is past the last (%zu)", index,
+                    (size_t)OPTION_COUNT);
+    const char *name = params_option_key(index);
+    if (key)
+        *key = name;
+    if (description)
+        *description = index == OPTION_COUNT ? SCHEME_DESCRIPTION : options[index].description;
+    if (default_choice) {
+        params defaults;
+        params_set_defaults(&defaults);
+        params_get_option(&defaults, name, default_choice);
+    }
+    if (choices)
+        *choices = choice_count(index);
+    return MPS2P_OK;
+}
+
+int mps2p_option_choice(size_t index, size_t choice, const char **name)
+{
+    error_clear();
+    if (index > OPTION_COUNT)
+        return fail(NULL, MPS2P_ERR_INVALID, "option index %zu is past the last (%zu)", index,
+                    (size_t)OPTION_COUNT);
+    if (choice >= choice_count(index))
+        return fail(NULL, MPS2P_ERR_INVALID, "option %s has %zu choices, not %zu",
+                    params_option_key(index), choice_count(index), choice + 1);
+    if (name)
+        *name = index == OPTION_COUNT ? schemes[choice].name : options[index].names[choice];
     return MPS2P_OK;
 }

@@ -338,29 +338,3 @@ int phases_divergence_check(mps2p_solver *s, double dt)
     }
     return MPS2P_OK;
 }
-
-int phases_get_stat(const mps2p_solver *s, const char *key, double *value)
-{
-    const two_phase *tp = s->phases;
-    if (!strcmp(key, "gas_triggered"))
-        *value = tp ? (double)tp->triggered_count : 0.0;
-    else if (!strcmp(key, "gas_enclosed"))
-        *value = tp ? (double)tp->enclosed_count : 0.0;
-    else if (!strcmp(key, "gas_joined"))
-        *value = tp ? (double)tp->joined_count : 0.0;
-    else if (!strcmp(key, "gas_in_liquid"))
-        *value = (double)gas_in_liquid_count(s);
-    else if (!strcmp(key, "gas_capped"))
-        *value = tp ? (double)tp->capped_count : 0.0;
-    else if (!strcmp(key, "gas_pressure_max"))
-        *value = tp ? tp->gas_pressure_max : 0.0;
-    else if (!strcmp(key, "gas_ppe_unknowns"))
-        *value = tp ? (double)tp->gas_unknowns : 0.0;
-    else if (!strcmp(key, "gas_ppe_iterations"))
-        *value = tp ? (double)tp->gas_iterations : 0.0;
-    else if (!strcmp(key, "two_phase_active"))
-        *value = s->effect_active[EFFECT_TWO_PHASE];
-    else
-        return MPS2P_ERR_UNKNOWN_KEY;
-    return MPS2P_OK;
-}

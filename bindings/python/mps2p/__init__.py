@@ -20,13 +20,13 @@ from .errors import (BufferError_, DivergedError, Error, FileError, InvalidArgum
                      SolveError, StateError, UnknownKeyError)
 from .examples import example_names, example_path
 from .results import Results, ResultsFile, open_results
-from .scene import KIND_DUMMY, KIND_FLUID, KIND_WALL, Scene, param_info
-from .solver import COUNT_STATS, STAT_KEYS, Solver, State
+from .scene import KIND_DUMMY, KIND_FLUID, KIND_WALL, Scene, option_info, param_info
+from .solver import COUNT_STATS, STAT_KEYS, Solver, State, stat_info
 
 __version__ = _version()
 
 __all__ = [
-    "Scene", "Solver", "State", "param_info", "STAT_KEYS", "COUNT_STATS", "KIND_FLUID",
+    "Scene", "Solver", "State", "param_info", "option_info", "stat_info", "STAT_KEYS", "COUNT_STATS", "KIND_FLUID",
     "KIND_WALL", "KIND_DUMMY", "Results", "ResultsFile", "open_results", "example_names",
     "example_path", "Error", "NullArgumentError", "InvalidArgumentError", "UnknownKeyError",
     "OutOfMemoryError", "StateError", "BufferError_", "SolveError", "DivergedError",

@@ -2,7 +2,8 @@
 
     mps2p run SCENE [--until T] [--out DIR] [--no-pictures] [--quiet]
     mps2p examples            # the example scenes shipped in the package
-    mps2p info [SCENE]        # without a scene: library version, path, parameters;
+    mps2p info [SCENE]        # without a scene: library version, path, parameters,
+                              # options, statistics;
                               # with one: particles, fluids, effects, dt, without running
     mps2p check SCENE         # read, check and build the scene; print it as JSON
     mps2p study [--quick] [--out DIR]   # the accuracy-cost study
@@ -224,6 +225,12 @@ def _info(args):
     print("parameters (default, meaning):")
     for key, (default, description) in mps2p.param_info().items():
         print("  %-24s %-10g %s" % (key, default, description))
+    print("options (default; choices: meaning):")
+    for key, (default, choices, description) in mps2p.option_info().items():
+        print("  %-26s %-17s %s: %s" % (key, default, " | ".join(choices), description))
+    print("statistics (meaning):")
+    for key, (description, _) in mps2p.stat_info().items():
+        print("  %-24s %s" % (key, description))
     return 0
 
 
