@@ -47,19 +47,14 @@ int collision_apply(mps2p_solver *s, double dt)
                               (velocity[2 * i + 1] - velocity[2 * j + 1]) * ny;
             if (approach <= 0.0)
                 continue;
-            double share = 1.0;
-            if (s->phases && s->phases->light[i] != s->phases->light[j] &&
-                s->kind[j] == MPS2P_KIND_FLUID) {
-                /* Two phases: the liquid ignores the gas, the gas bounces off
-                 * the liquid as off a wall; a light particle that joined the
-                 * liquid solve (last step) collides as liquid, half each. */
-                size_t gas = s->phases->light[i] ? i : j;
-                if (s->phases->joined[gas])
-                    share = 0.5;
-                else if (!s->phases->light[i])
+            double share = 1.0; /* a wall's */
+            if (s->kind[j] == MPS2P_KIND_FLUID) {
+                /* by mass, unless another part gives the rule (the two phases) */
+                share = s->collision_share ? s->collision_share(s, i, j)
+                                           : s->density[j] / (s->density[i] + s->density[j]);
+                if (share < 0.0)
                     continue;
-            } else if (s->kind[j] == MPS2P_KIND_FLUID)
-                share = s->density[j] / (s->density[i] + s->density[j]);
+            }
             double impulse = fraction * (1.0 + e) * share * approach;
             updated[2 * i] -= impulse * nx;
             updated[2 * i + 1] -= impulse * ny;

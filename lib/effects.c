@@ -7,6 +7,19 @@
 #include <math.h>
 #include <stdio.h>
 
+double light_fluid_density(const mps2p_solver *s, double *heaviest)
+{
+    double heavy = 0.0, light = 0.0;
+    for (int f = 0; f < s->fluid_count; f++)
+        heavy = fmax(heavy, s->fluids[f].density);
+    const double threshold = s->params.light_fraction * heavy;
+    for (int f = 0; f < s->fluid_count; f++)
+        if (s->fluids[f].density < threshold)
+            light = fmax(light, s->fluids[f].density);
+    *heaviest = heavy;
+    return light;
+}
+
 /* 1 when the scene gives the effect something to act on; says why either way. */
 typedef int (*needed_fn)(const mps2p_solver *s, char *why, size_t size);
 
@@ -38,7 +51,7 @@ static int collision_needed(const mps2p_solver *s, char *why, size_t size)
  * instead, so the effect cannot be on then. */
 static int two_phase_needed(const mps2p_solver *s, char *why, size_t size)
 {
-    double heaviest = 0.0, light = phases_light_density(s, &heaviest);
+    double heaviest = 0.0, light = light_fluid_density(s, &heaviest);
     if (s->params.two_phase_model == TWO_PHASE_SINGLE) {
         snprintf(why, size, "two_phase_model is \"single\" (one PPE over every fluid)");
         return 0;

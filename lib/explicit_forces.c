@@ -19,10 +19,10 @@ int viscosity_apply(mps2p_solver *s, double dt)
         a[0] = a[1] = 0.0;
         if (s->kind[i] != MPS2P_KIND_FLUID || s->viscosity[i] <= 0.0)
             continue;
-        /* Two phases: the liquid ignores the gas (docs/method.md section 2); the gas
-         * sees the liquid as moving walls. */
+        /* only the neighbours of the mask, if another part sets one (the
+         * two phases: the liquid ignores the gas) */
         const unsigned char *mask =
-            s->phases && !s->phases->light[i] ? s->phases->heavy_mask : NULL;
+            s->viscosity_mask && !s->viscosity_unmasked[i] ? s->viscosity_mask : NULL;
         laplacian_masked_at(s, i, velocity, 2, mask, a);
         a[0] *= s->viscosity[i];
         a[1] *= s->viscosity[i];

@@ -435,9 +435,8 @@ typedef struct two_phase {
     double gas_pressure_max;
 } two_phase;
 
-/* Density of the heaviest light fluid, 0 when the scene has none; *heaviest
- * gets the heaviest fluid's (effects.c and phases_init share the rule). */
-double phases_light_density(const mps2p_solver *s, double *heaviest);
+/* The share of a collision's impulse between phases (phases_rules.c). */
+double phases_collision_share(const mps2p_solver *s, size_t i, size_t j);
 /* Allocates s->phases (plan_build, when effect two_phase is on). */
 int phases_init(mps2p_solver *s);
 void phases_free(struct two_phase *tp);
@@ -517,6 +516,13 @@ struct mps2p_solver {
     double ppe_min_dt;
 
     struct two_phase *phases; /* allocated only when effect two_phase is on */
+    /* How the two phases change two single-phase stages, set with their
+     * state (NULL without): the neighbours a particle's viscosity sees (all
+     * where viscosity_mask is NULL or viscosity_unmasked[i] is set), and the
+     * share of a collision's impulse fluid particle i takes from fluid
+     * particle j (below 0: they do not collide; NULL: by mass). */
+    const unsigned char *viscosity_mask, *viscosity_unmasked;
+    double (*collision_share)(const mps2p_solver *s, size_t i, size_t j);
 
     /* pressure solve */
     sparse_matrix matrix;
@@ -558,6 +564,10 @@ struct mps2p_solver {
 
 /* Decides every effect from the scene and the requests (effects.c). */
 int effects_decide(mps2p_solver *s);
+/* Density of the heaviest light fluid (below light_fraction of the
+ * heaviest), 0 when the scene has none; *heaviest gets the heaviest fluid's
+ * (effects.c; effect two_phase and the two-phase state share the rule). */
+double light_fluid_density(const mps2p_solver *s, double *heaviest);
 const char *effect_name(int effect);
 /* Lays out the step's stages for the effects decided (effects_decide) and
  * allocates what only an active stage needs (stages.c). Inputs that change

@@ -14,19 +14,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-double phases_light_density(const mps2p_solver *s, double *heaviest)
-{
-    double heavy = 0.0, light = 0.0;
-    for (int f = 0; f < s->fluid_count; f++)
-        heavy = fmax(heavy, s->fluids[f].density);
-    const double threshold = s->params.light_fraction * heavy;
-    for (int f = 0; f < s->fluid_count; f++)
-        if (s->fluids[f].density < threshold)
-            light = fmax(light, s->fluids[f].density);
-    *heaviest = heavy;
-    return light;
-}
-
 size_t phases_memory_bytes(const mps2p_solver *s)
 {
     const two_phase *tp = s->phases;
@@ -47,7 +34,7 @@ void phases_free(two_phase *tp)
 
 int phases_init(mps2p_solver *s)
 {
-    double heaviest = 0.0, light_density = phases_light_density(s, &heaviest);
+    double heaviest = 0.0, light_density = light_fluid_density(s, &heaviest);
     const double threshold = s->params.light_fraction * heaviest;
 
     const size_t n = s->count;
@@ -79,6 +66,11 @@ int phases_init(mps2p_solver *s)
         phases_free(tp);
         return MPS2P_ERR_NOMEM;
     }
+    /* the liquid's viscosity ignores the gas (docs/method.md section 2); the
+     * gas sees the liquid as moving walls */
+    s->viscosity_mask = tp->heavy_mask;
+    s->viscosity_unmasked = tp->light;
+    s->collision_share = phases_collision_share;
     return MPS2P_OK;
 }
 
