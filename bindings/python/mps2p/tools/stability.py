@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from . import errors
+from .. import errors
 from .scenefile import load
 
 MARGIN = 0.05

@@ -8,10 +8,10 @@ import time as clock
 
 import numpy as np
 
-from . import errors
-from ._core import version
-from .progress import Progress
-from .results import Results
+from .. import errors
+from .._core import version
+from ..progress import Progress
+from ..results import Results
 from .scenefile import check_schedule, load
 
 PICTURE_SNAPSHOTS = 6

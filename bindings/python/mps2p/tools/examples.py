@@ -1,4 +1,4 @@
-"""The example scenes shipped inside the package (mps2p/scenes/*.toml):
+"""The example scenes shipped inside the package (mps2p/tools/scenes/*.toml):
 `mps2p examples` lists them and `mps2p run NAME` runs one by name."""
 import os
 

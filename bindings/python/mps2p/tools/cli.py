@@ -21,7 +21,7 @@ import math
 import sys
 import warnings
 
-from . import errors
+from .. import errors
 
 SCENE_HELP = "a scene file (.toml, docs/scene-files.md) or an example's name (mps2p examples)"
 

@@ -36,9 +36,9 @@ import time as clock
 
 import numpy as np
 
+from ..scene import Scene
+from ..solver import Solver
 from .pictures import martin_moyce
-from .scene import Scene
-from .solver import Solver
 
 G = 9.81
 COLUMN = 0.15

@@ -47,9 +47,9 @@ except ModuleNotFoundError:  # Python < 3.11
 
 import numpy as np
 
-from . import errors
-from .scene import Scene
-from .solver import STAT_KEYS
+from .. import errors
+from ..scene import Scene
+from ..solver import STAT_KEYS
 
 NUMBER = "number"
 STRING = "string"
@@ -123,7 +123,7 @@ class SceneFile:
         """The solver for this scene; what the C library refuses at creation
         (an effect the scene cannot support, overlapping particles) is reported
         against this file."""
-        from .solver import Solver
+        from ..solver import Solver
         with self.build() as scene:
             try:
                 return Solver(scene)
