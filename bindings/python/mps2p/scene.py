@@ -12,7 +12,7 @@ KIND_FLUID = lib.MPS2P_KIND_FLUID
 KIND_WALL = lib.MPS2P_KIND_WALL
 KIND_DUMMY = lib.MPS2P_KIND_DUMMY
 
-# The C library counts cells as floor(side / l0 + 1e-6) (lib/scene.c): a
+# The C library counts cells as floor(side / l0 + 1e-6) (lib/core/scene.c): a
 # side within this many l0 of a whole number is taken as that number.
 _SNAP_TOLERANCE = 1e-6
 

@@ -77,7 +77,7 @@ ARRAYS_OF_TABLES = ("fluid", "fluid_box", "tank", "wall_box", "particles", "prob
 PROBE_KEYS = {"pressure": {"at"}, "front": {"fluid", "below", "compare", "column_width"},
               "count": {"fluid"}, "stat": {"stat"}}
 FRONT_REFERENCES = ("martin_moyce_1952",)
-# Probe names become HDF5 series names (lib/results_file.c: 1 to 64 of these).
+# Probe names become HDF5 series names (lib/io/results_file.c: 1 to 64 of these).
 PROBE_NAME = re.compile(r"^[A-Za-z0-9_-][A-Za-z0-9_.-]{0,63}$")
 # A run's name is the folder out/<name>: one path component, never "", "." or "..".
 RUN_NAME = re.compile(r"^[A-Za-z0-9_-][A-Za-z0-9_.-]{0,99}$")
