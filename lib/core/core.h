@@ -251,6 +251,8 @@ typedef struct particle_state {
     double *pressure;  /* n  */
 } particle_state;
 
+/* Its members that are per particle or carry from one step into the next
+ * are rows of solver_fields too (fields.c): a row says how each is kept. */
 struct mps2p_solver {
     double l0;
     params params;
