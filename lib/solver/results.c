@@ -2,7 +2,6 @@
 #include "core/core.h"
 #include "solver/solver.h"
 
-#include <math.h>
 #include <string.h>
 
 #define CHECK_OUTPUT(s, out)                                                         \

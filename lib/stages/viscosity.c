@@ -4,7 +4,6 @@
 #include "core/core.h"
 #include "stages/stages.h"
 
-#include <math.h>
 
 int viscosity_apply(mps2p_solver *s, double dt)
 {

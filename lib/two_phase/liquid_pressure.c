@@ -7,8 +7,6 @@
 #include "two_phase/two_phase.h"
 
 #include <math.h>
-#include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 

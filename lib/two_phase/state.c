@@ -37,7 +37,6 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 
 #define FIELD(member, type, flags)                                                     \
     {#member, offsetof(two_phase, member), type, 1, flags}
