@@ -15,10 +15,10 @@ if [ ! -f "$base/build-release/lib/libmps2p.so.0" ]; then
     mkdir -p "$base"
     git archive "$rev" | tar -x -C "$base"
     meson setup "$base/build-release" "$base" --buildtype=release >/dev/null
-    ninja --quiet -C "$base/build-release" lib/libmps2p.so.0
+    meson compile -C "$base/build-release" mps2p >/dev/null
 fi
 [ -d build-release ] || meson setup build-release --buildtype=release >/dev/null
-ninja --quiet -C build-release lib/libmps2p.so.0
+meson compile -C build-release mps2p >/dev/null
 scene() { find "$1/bindings/python" -name ikari2003_dam_break_air.toml | head -n1; }
 for side in base this; do
     if [ "$side" = base ]; then root=$base; else root=$PWD; fi
