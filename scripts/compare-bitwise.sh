@@ -25,12 +25,12 @@ for side in base this; do
     echo "== $side ($root)"
     MPS2P_LIBRARY="$root/build-release/lib/libmps2p.so.0" MPS2P_HEADER="$root/include/mps2p.h" \
         PYTHONPATH="$root/bindings/python" \
-        python3 scripts/bitwise_runs.py "$work/$side" "$(scene "$root")"
+        python3 scripts/bitwise_runs.py "$work/out-$side" "$(scene "$root")"
 done
 different=0
-for file in "$work"/base/*; do
+for file in "$work"/out-base/*; do
     name=$(basename "$file")
-    if cmp -s "$file" "$work/this/$name"; then
+    if cmp -s "$file" "$work/out-this/$name"; then
         echo "identical: $name ($(stat -c %s "$file") bytes)"
     else
         echo "DIFFERENT: $name"; different=1
