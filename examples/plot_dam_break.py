@@ -1,5 +1,5 @@
 """The C example's surge front against Martin & Moyce (1952), drawn by the
-same function as `mps2p run`'s front.png (mps2p.pictures.front_picture).
+same function as `mps2p run`'s front.png (mps2p.tools.pictures.front_picture).
 
     ./build/examples/dam_break 0.01 1.0 OUT_DIR/run.h5 > OUT_DIR/front.txt
     python3 examples/plot_dam_break.py OUT_DIR
@@ -12,7 +12,7 @@ import sys
 
 import numpy as np
 
-from mps2p.pictures import front_picture, martin_moyce
+from mps2p.tools.pictures import front_picture, martin_moyce
 
 A = 0.15  # column width (m)
 TANK = 0.6  # the opposite wall (m)

@@ -291,6 +291,18 @@ MPS2P_API int mps2p_scene_set_domain(mps2p_scene *scene, double xmin, double ymi
  * output pointer may be NULL. */
 MPS2P_API int mps2p_param_info(size_t index, const char **key,
                                const char **description, double *default_value);
+/* How many numeric parameters mps2p_param_info lists. */
+MPS2P_API int mps2p_param_count(size_t *count);
+
+/* The options (named choices) at run time, index 0 to count - 1: its key, a
+ * one-line description, its default choice and how many choices it has;
+ * mps2p_option_choice gives the choice-th name (0 to choices - 1). The last
+ * option is "scheme". MPS2P_ERR_INVALID past the last one. Any output
+ * pointer may be NULL; the strings are static. */
+MPS2P_API int mps2p_option_count(size_t *count);
+MPS2P_API int mps2p_option_info(size_t index, const char **key, const char **description,
+                                const char **default_choice, size_t *choices);
+MPS2P_API int mps2p_option_choice(size_t index, size_t choice, const char **name);
 
 /* ---------------------------------------------------------------------------
  * 3. Solver
@@ -396,6 +408,14 @@ MPS2P_API int mps2p_solver_get_last_dt(const mps2p_solver *solver, double *dt);
  *   two_phase_active (1 when the effect is on). */
 MPS2P_API int mps2p_solver_get_stat(const mps2p_solver *solver, const char *key,
                                     double *value);
+
+/* The statistics at run time, index 0 to count - 1 in the order above: its
+ * key for mps2p_solver_get_stat, a one-line description with its unit, and
+ * whether it counts something (*is_count 1: a whole number). MPS2P_ERR_INVALID
+ * past the last one. Any output pointer may be NULL; the strings are static. */
+MPS2P_API int mps2p_stat_count(size_t *count);
+MPS2P_API int mps2p_stat_info(size_t index, const char **key, const char **description,
+                              int *is_count);
 
 /* ---------------------------------------------------------------------------
  * 5. Files and probes: HDF5 results (with an XDMF sidecar for ParaView),
@@ -503,10 +523,15 @@ MPS2P_API int mps2p_solver_effect_count(const mps2p_solver *solver, size_t *coun
 MPS2P_API int mps2p_solver_get_effect(const mps2p_solver *solver, size_t index,
                                       const char **name, int *active, const char **reason);
 
-/* The stages of a step in their order (neighbours, viscosity, gravity, ...,
- * pressure_assembly, pressure_solve, correction, divergence_check): whether
- * each is in this solver's step, its wall time in seconds and its calls since
- * creation or the last reset. Timing costs two clock reads per stage. */
+/* The stages of a step, index 0 to count - 1 in the order a step runs them
+ * (neighbours, number_density_start, ..., viscosity, ..., advection,
+ * collision, number_density, ..., pressure_solve, ..., correction, ...,
+ * divergence_check; docs/internals.md lists them): whether each is in this
+ * solver's next step, its wall time in seconds and its calls since creation
+ * or the last reset. neighbours (index 0) also runs after advection and
+ * collision, each run a call. Names stay; an index moves when a stage is
+ * added before it, so look stages up by name. Timing costs two clock reads
+ * per stage. */
 MPS2P_API int mps2p_solver_stage_count(const mps2p_solver *solver, size_t *count);
 MPS2P_API int mps2p_solver_get_stage(const mps2p_solver *solver, size_t index,
                                      const char **name, int *active, double *seconds,

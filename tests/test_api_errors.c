@@ -314,6 +314,16 @@ int main(void)
     EXPECT(mps2p_scene_get_option(scene, "nonsense", &text), MPS2P_ERR_UNKNOWN_KEY, "nonsense");
     EXPECT(mps2p_scene_get_option(scene, "pressure_solver", NULL), MPS2P_ERR_NULL, "NULL");
     EXPECT(mps2p_param_info(100000, &text, NULL, NULL), MPS2P_ERR_INVALID, "past the last");
+    size_t listed = 0;
+    EXPECT(mps2p_param_count(NULL), MPS2P_ERR_NULL, "NULL");
+    EXPECT(mps2p_option_count(NULL), MPS2P_ERR_NULL, "NULL");
+    EXPECT(mps2p_stat_count(NULL), MPS2P_ERR_NULL, "NULL");
+    MUST(mps2p_option_count(&listed));
+    EXPECT(mps2p_option_info(listed, &text, NULL, NULL, NULL), MPS2P_ERR_INVALID,
+           "past the last");
+    EXPECT(mps2p_option_choice(0, 1000, &text), MPS2P_ERR_INVALID, "choices");
+    MUST(mps2p_stat_count(&listed));
+    EXPECT(mps2p_stat_info(listed, &text, NULL, NULL), MPS2P_ERR_INVALID, "past the last");
     EXPECT(mps2p_scene_add_wall_box(NULL, 0, 0, 1, 1), MPS2P_ERR_NULL, "scene is NULL");
     EXPECT(mps2p_scene_add_wall_box(scene, 0, 0, NAN, 1), MPS2P_ERR_INVALID, "finite");
     EXPECT(mps2p_scene_add_tank(scene, 0, 0, 1e300, 1e300, 1), MPS2P_ERR_INVALID, "");

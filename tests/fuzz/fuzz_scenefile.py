@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """atheris (libFuzzer for Python) target: TOML scene files through the code
-path of `mps2p run` (mps2p.run): scenefile.load() reads and checks the bytes
+path of `mps2p run` (mps2p.tools.run): scenefile.load() reads and checks the bytes
 (or, for inputs starting with a zero byte, the example dam break with values
 replaced and keys added as the rest of the bytes say),
 make_solver() builds the scene and the solver in the C library; a small
@@ -32,7 +32,7 @@ import atheris  # noqa: E402
 
 with atheris.instrument_imports(include=["mps2p"]):
     import mps2p  # noqa: E402
-    from mps2p import scenefile  # noqa: E402
+    from mps2p.tools import scenefile  # noqa: E402
 
 MEMORY_LIMIT = 1e7
 MAX_STEPPED = 2000

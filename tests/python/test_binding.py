@@ -71,6 +71,24 @@ def test_returned_arrays_are_copies():
         assert solver.positions() is not solver.positions()
 
 
+def test_the_library_lists_its_parameters_options_and_statistics():
+    count = ffi.new("size_t *")
+    assert lib.mps2p_param_count(count) == lib.MPS2P_OK
+    assert len(mps2p.param_info()) == count[0] > 30
+    options = mps2p.option_info()
+    assert options["pressure_solver"][:2] == ("cholmod", ("cholmod", "cg"))
+    assert options["scheme"][:2] == ("corrected", ("corrected", "koshizuka1996"))
+    with mps2p.Scene(0.01) as scene:
+        for key, (default, choices, description) in options.items():
+            assert scene.get_option(key) == default and default in choices and description
+            for choice in choices:
+                scene.set_option(key, choice)
+    stats = mps2p.stat_info()
+    assert tuple(stats) == mps2p.STAT_KEYS and all(d for d, _ in stats.values())
+    assert stats["ppe_unknowns"][1] and not stats["max_speed"][1]
+    assert mps2p.COUNT_STATS == {k for k, (_, counts) in stats.items() if counts}
+
+
 def test_parameters_default_to_the_c_defaults():
     info = mps2p.param_info()
     assert info["re_density"][0] == 2.1 and info["beta"][0] == 0.97

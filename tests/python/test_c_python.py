@@ -8,8 +8,8 @@ import subprocess
 import h5py
 import numpy as np
 
-from mps2p import scenefile
-from mps2p.pictures import REFERENCE
+from mps2p.tools import scenefile
+from mps2p.tools.pictures import REFERENCE
 
 from conftest import ROOT, SCENES
 

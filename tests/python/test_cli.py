@@ -98,7 +98,7 @@ def test_version():
 def test_every_argument_has_help():
     import argparse
 
-    from mps2p.cli import parser
+    from mps2p.tools.cli import parser
     top = parser()
     subcommands = [a for a in top._actions if isinstance(a, argparse._SubParsersAction)][0]
     helped = {c.dest: c.help for c in subcommands._choices_actions}

@@ -1,5 +1,5 @@
 """Two-phase hard cases (issue 9; docs/two-phase.md, "Hard cases"): scenes in
-examples/scenes run with the checks of mps2p.stability after every step.
+examples/scenes run with the checks of mps2p.tools.stability after every step.
 
 By default (CI): the conventional model's documented failure on the drop into
 a pool (detected at the impact, with its place), and the improved model on
@@ -14,7 +14,7 @@ import os
 
 import pytest
 
-from mps2p.stability import check_run, gas_in_liquid_peak_and_last
+from mps2p.tools.stability import check_run, gas_in_liquid_peak_and_last
 
 from conftest import SCENES
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from mps2p import open_results
-from mps2p.run import run
+from mps2p.tools.run import run
 
 from conftest import HERE, SCENES
 

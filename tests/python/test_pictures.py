@@ -6,8 +6,8 @@ import os
 
 import pytest
 
-from mps2p import pictures
-from mps2p.run import run
+from mps2p.tools import pictures
+from mps2p.tools.run import run
 
 from conftest import SCENES
 

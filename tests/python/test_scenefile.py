@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import mps2p
-from mps2p import scenefile
-from mps2p.run import run
+from mps2p.tools import scenefile
+from mps2p.tools.run import run
 
 from conftest import SCENES
 

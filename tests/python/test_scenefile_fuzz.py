@@ -45,7 +45,7 @@ KEYS = leaf_paths(tomllib.loads(VALID)) if tomllib else [("run", "l0")]
 def must_load_or_refuse(text, tmp_path):
     """Loading (reading and checking) and building the scene (the C calls)
     either work or raise SceneFileError."""
-    from mps2p import scenefile
+    from mps2p.tools import scenefile
     path = tmp_path / "scene.toml"
     path.write_bytes(text.encode("utf-8", errors="surrogatepass"))
     try:

@@ -1,10 +1,10 @@
-"""The hard-case checker (mps2p.stability) on a case that is known to be
+"""The hard-case checker (mps2p.tools.stability) on a case that is known to be
 stable, and each check shown able to fail."""
 import os
 
 import pytest
 
-from mps2p import stability
+from mps2p.tools import stability
 
 from conftest import SCENES
 

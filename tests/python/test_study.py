@@ -4,7 +4,7 @@ import csv
 
 import pytest
 
-from mps2p.study import observed_order, pareto, study
+from mps2p.tools.study import observed_order, pareto, study
 
 
 def test_pareto_and_order():

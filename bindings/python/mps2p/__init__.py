@@ -1,7 +1,8 @@
 """libmps2p from Python: a thin cffi binding over the C library's public
 header. The numerics are all in C; this package converts and checks
 arguments, turns status codes into exceptions and returns fields as numpy
-arrays (copies).
+arrays (copies). The applications built on it (scene files, `mps2p run`,
+the study, the stability checks, pictures, the command) are mps2p.tools.
 
     import mps2p
     with mps2p.Scene(0.01) as scene:
@@ -12,24 +13,33 @@ arrays (copies).
     solver.advance_to(0.3)
     xy = solver.positions()            # (n, 2) numpy array, a copy
 """
-from . import errors, examples, results
+from . import errors, results
 from ._core import version as _version
 from ._native import header_path, library_path
 from .errors import (BufferError_, DivergedError, Error, FileError, InvalidArgumentError,
                      NullArgumentError, OutOfMemoryError, SceneFileError, SnapWarning,
                      SolveError, StateError, UnknownKeyError)
-from .examples import example_names, example_path
 from .results import Results, ResultsFile, open_results
-from .scene import KIND_DUMMY, KIND_FLUID, KIND_WALL, Scene, param_info
-from .solver import COUNT_STATS, STAT_KEYS, Solver, State
+from .scene import KIND_DUMMY, KIND_FLUID, KIND_WALL, Scene, option_info, param_info
+from .solver import COUNT_STATS, STAT_KEYS, Solver, State, stat_info
 
 __version__ = _version()
 
+
+def __getattr__(name):
+    """mps2p.example_names, mps2p.example_path and mps2p.examples, as before
+    the applications moved to mps2p.tools: imported when first asked for."""
+    if name in ("example_names", "example_path", "examples"):
+        from .tools import examples
+        return examples if name == "examples" else getattr(examples, name)
+    raise AttributeError("module 'mps2p' has no attribute %r" % name)
+
+
 __all__ = [
-    "Scene", "Solver", "State", "param_info", "STAT_KEYS", "COUNT_STATS", "KIND_FLUID",
-    "KIND_WALL", "KIND_DUMMY", "Results", "ResultsFile", "open_results", "example_names",
-    "example_path", "Error", "NullArgumentError", "InvalidArgumentError", "UnknownKeyError",
-    "OutOfMemoryError", "StateError", "BufferError_", "SolveError", "DivergedError",
-    "FileError", "SceneFileError", "SnapWarning", "errors", "examples", "results",
-    "library_path", "header_path", "__version__",
+    "Scene", "Solver", "State", "param_info", "option_info", "stat_info", "STAT_KEYS",
+    "COUNT_STATS", "KIND_FLUID", "KIND_WALL", "KIND_DUMMY", "Results", "ResultsFile",
+    "open_results", "example_names", "example_path", "Error", "NullArgumentError",
+    "InvalidArgumentError", "UnknownKeyError", "OutOfMemoryError", "StateError",
+    "BufferError_", "SolveError", "DivergedError", "FileError", "SceneFileError",
+    "SnapWarning", "errors", "results", "library_path", "header_path", "__version__",
 ]

@@ -1,5 +1,6 @@
+"""python -m mps2p: the mps2p command (mps2p.tools.cli)."""
 import sys
 
-from .cli import main
+from .tools.cli import main
 
 sys.exit(main())

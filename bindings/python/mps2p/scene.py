@@ -12,7 +12,7 @@ KIND_FLUID = lib.MPS2P_KIND_FLUID
 KIND_WALL = lib.MPS2P_KIND_WALL
 KIND_DUMMY = lib.MPS2P_KIND_DUMMY
 
-# The C library counts cells as floor(side / l0 + 1e-6) (lib/scene.c): a
+# The C library counts cells as floor(side / l0 + 1e-6) (lib/core/scene.c): a
 # side within this many l0 of a whole number is taken as that number.
 _SNAP_TOLERANCE = 1e-6
 
@@ -20,12 +20,31 @@ _SNAP_TOLERANCE = 1e-6
 def param_info():
     """{key: (default, description)} for every numeric parameter, in the C
     library's order."""
-    info = {}
+    count = ffi.new("size_t *")
+    check(lib.mps2p_param_count(count))
     key, description, default = ffi.new("char **"), ffi.new("char **"), ffi.new("double *")
-    position = 0
-    while lib.mps2p_param_info(position, key, description, default) == lib.MPS2P_OK:
+    info = {}
+    for i in range(count[0]):
+        check(lib.mps2p_param_info(i, key, description, default))
         info[ffi.string(key[0]).decode()] = (default[0], ffi.string(description[0]).decode())
-        position += 1
+    return info
+
+
+def option_info():
+    """{key: (default, choices, description)} for every option (named choice),
+    in the C library's order; choices is a tuple of str."""
+    count, choices = ffi.new("size_t *"), ffi.new("size_t *")
+    check(lib.mps2p_option_count(count))
+    key, description, default, name = (ffi.new("char **") for _ in range(4))
+    info = {}
+    for i in range(count[0]):
+        check(lib.mps2p_option_info(i, key, description, default, choices))
+        names = []
+        for c in range(choices[0]):
+            check(lib.mps2p_option_choice(i, c, name))
+            names.append(ffi.string(name[0]).decode())
+        info[ffi.string(key[0]).decode()] = (ffi.string(default[0]).decode(), tuple(names),
+                                             ffi.string(description[0]).decode())
     return info
 
 
@@ -234,4 +253,4 @@ def _box(*values):
     return [real(v, "coordinate") for v in values]
 
 
-__all__ = ["Scene", "param_info", "KIND_FLUID", "KIND_WALL", "KIND_DUMMY"]
+__all__ = ["Scene", "param_info", "option_info", "KIND_FLUID", "KIND_WALL", "KIND_DUMMY"]

@@ -8,20 +8,26 @@ from . import errors
 from ._core import Owned, check, encode, encode_path, index, real, real_array
 from ._native import ffi, lib
 
-STAT_KEYS = ("max_speed", "kinetic_energy", "potential_energy", "pressure_min",
-             "pressure_max", "ppe_unknowns", "ppe_iterations", "ppe_residual",
-             "surface_particles", "n0", "lambda", "neighbour_builds", "ppe_iterations_total",
-             "dt_next", "ppe_analyses", "eddy_viscosity_max", "memory_bytes", "closest_pair", "diverged_particle",
-             # two phases (0 when effect two_phase is off)
-             "gas_triggered", "gas_enclosed", "gas_joined", "gas_in_liquid", "gas_capped",
-             "gas_pressure_max",
-             "gas_ppe_unknowns", "gas_ppe_iterations", "two_phase_active")
-# Statistics that count something (include/mps2p.h): returned as int.
-COUNT_STATS = frozenset((
-    "ppe_unknowns", "ppe_iterations", "surface_particles", "neighbour_builds",
-    "ppe_iterations_total", "ppe_analyses", "memory_bytes", "diverged_particle",
-    "gas_triggered", "gas_enclosed", "gas_joined", "gas_in_liquid", "gas_capped",
-    "gas_ppe_unknowns", "gas_ppe_iterations", "two_phase_active"))
+
+
+def stat_info():
+    """{key: (description, is_count)} for every statistic, in the C
+    library's order (mps2p_stat_info)."""
+    count = ffi.new("size_t *")
+    check(lib.mps2p_stat_count(count))
+    key, description, is_count = ffi.new("char **"), ffi.new("char **"), ffi.new("int *")
+    info = {}
+    for i in range(count[0]):
+        check(lib.mps2p_stat_info(i, key, description, is_count))
+        info[ffi.string(key[0]).decode()] = (ffi.string(description[0]).decode(),
+                                             bool(is_count[0]))
+    return info
+
+
+_STATS = stat_info()
+# The statistics' keys, and those that count something (returned as int).
+STAT_KEYS = tuple(_STATS)
+COUNT_STATS = frozenset(key for key, (_, is_count) in _STATS.items() if is_count)
 
 
 class State(Owned):
@@ -187,8 +193,8 @@ class Solver(Owned):
         return self._field(lib.mps2p_solver_get_fluid_ids, np.intc, 1)
 
     def stat(self, key):
-        """The statistic `key` (STAT_KEYS; meanings and units in
-        include/mps2p.h): an int for counts (COUNT_STATS), else a float.
+        """The statistic `key` (STAT_KEYS; meanings and units: stat_info()):
+        an int for counts (COUNT_STATS), else a float.
         UnknownKeyError for an unknown key."""
         value = ffi.new("double *")
         check(lib.mps2p_solver_get_stat(self.handle, encode(key, "statistic name"), value))
@@ -375,4 +381,4 @@ def _pair(value, what):
     return [real(x, what), real(y, what)]
 
 
-__all__ = ["Solver", "State", "STAT_KEYS", "COUNT_STATS", "errors"]
+__all__ = ["Solver", "State", "stat_info", "STAT_KEYS", "COUNT_STATS", "errors"]

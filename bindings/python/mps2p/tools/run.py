@@ -1,0 +1,251 @@
+"""Running a scene file: snapshots and probe series into one HDF5 file (with
+its XDMF sidecar), series.csv, summary.json and pictures."""
+import json
+import math
+import os
+import sys
+import time as clock
+
+import numpy as np
+
+from .. import errors
+from .._core import version
+from ..progress import Progress
+from ..results import Results
+from .scenefile import check_schedule, load
+
+PICTURE_SNAPSHOTS = 6
+
+
+class Probes:
+    """Evaluates a scene file's probes on a solver; every probe is one C call."""
+
+    def __init__(self, scene_file):
+        self.entries = scene_file.probes
+        self.fluid_ids = {name: i for i, name in enumerate(scene_file.fluids)}
+        self.l0 = scene_file.l0
+        self.names = [p["name"] for p in self.entries]
+
+    def sample(self, solver):
+        values = []
+        fluid_ids = None
+        for p in self.entries:
+            kind = p["type"]
+            if kind == "pressure":
+                values.append(solver.probe([p["at"]])[0][0])
+            elif kind == "front":
+                try:
+                    values.append(solver.front(self.fluid_ids[p["fluid"]],
+                                               p.get("below", 2 * self.l0)))
+                except errors.InvalidArgumentError:
+                    values.append(float("nan"))  # no particle of that fluid low enough
+            elif kind == "count":
+                if fluid_ids is None:
+                    fluid_ids = solver.fluid_ids()
+                values.append(float(np.count_nonzero(fluid_ids == self.fluid_ids[p["fluid"]])))
+            else:
+                values.append(solver.stat(p["stat"]))
+        return values
+
+
+def _schedule(end_time, every):
+    if every <= 0:
+        return [end_time]
+    count = int(np.floor(end_time / every + 1e-9))
+    times = [k * every for k in range(1, count + 1)]
+    if not times or end_time - times[-1] > 1e-9 * end_time:
+        times.append(end_time)
+    return times
+
+
+def particle_counts(solver, fluid_names):
+    kinds, ids = solver.kinds(), solver.fluid_ids()
+    counts = {name: int(np.count_nonzero((kinds == 0) & (ids == k)))
+              for k, name in enumerate(fluid_names)}
+    counts["wall"] = int(np.count_nonzero(kinds == 1))
+    counts["dummy"] = int(np.count_nonzero(kinds == 2))
+    return counts
+
+
+def run(scene_path, out_dir, until=None, pictures=True, progress=False):
+    """Runs the scene file into out_dir; returns the summary (also written as
+    summary.json). A scene that cannot be read or built raises before anything
+    is written. A divergence ends the run early with status "diverged": the last
+    good state is written as a final snapshot and everything so far is kept."""
+    scene_file = load(scene_path)
+    end = scene_file.end_time if until is None else float(until)
+    if not (end > 0 and math.isfinite(end)):
+        raise errors.SceneFileError("%s: the end time must be > 0 and finite, got %r"
+                                    % (scene_path, until))
+    problem = check_schedule(end, scene_file.snapshot_every, scene_file.series_every)
+    if problem:
+        raise errors.SceneFileError("%s: %s: %s" % ((scene_path,) + problem))
+    if pictures and not pictures_available():
+        print("mps2p: warning: no pictures: matplotlib is not installed "
+              "(pip install matplotlib)", file=sys.stderr)
+        pictures = False
+    solver = scene_file.make_solver()
+    try:
+        make_output_folder(out_dir)
+    except errors.Error:
+        solver.close()
+        raise
+    probes = Probes(scene_file)
+    n = solver.particle_count
+    snapshot_times = set(_schedule(end, scene_file.snapshot_every))
+    wanted = [t for t in scene_file.picture_times or [] if t <= end]
+    if wanted:
+        scheduled = snapshot_times | {0.0}
+        # the start, always; the end too when --until cut the asked times short
+        shortened = len(wanted) < len(scene_file.picture_times)
+        picture_times = sorted({_on_schedule(t, scheduled, end)
+                                for t in wanted + [0.0] + ([end] if shortened else [])})
+        snapshot_times |= set(t for t in picture_times if t > 0)
+    else:  # none asked for, or none before a shortened run's end
+        candidates = sorted(snapshot_times | {0.0})
+        picks = np.unique(np.linspace(0, len(candidates) - 1,
+                                      PICTURE_SNAPSHOTS).round().astype(int))
+        picture_times = [candidates[k] for k in picks]
+    series_every = scene_file.series_every
+    events = sorted(snapshot_times | set(_schedule(end, series_every) if series_every > 0 else []))
+    pictures_data, rows = [], []
+    status, reason, diverged_particle = "ok", "", -1
+    bar = Progress(end, n, progress)
+    started = clock.perf_counter()
+    with Results(os.path.join(out_dir, "results.h5"), solver, scene_file.text) as results:
+        def sample():
+            values = probes.sample(solver)
+            rows.append([solver.time, solver.step_count] + values)
+            for name, value in zip(probes.names, values):
+                results.append_series(name, solver.time, value)
+
+        def snapshot(force_picture=False):
+            results.write_snapshot(solver)
+            if pictures and (force_picture or any(abs(solver.time - t) <= 1e-9 * max(1.0, end)
+                                                  for t in picture_times)):
+                pictures_data.append(snapshot_arrays(solver))
+
+        sample()
+        snapshot()
+        try:
+            for t in events:
+                if series_every > 0:
+                    solver.advance_to(t)
+                    sample()
+                else:
+                    while solver.time < t - 1e-12 * max(1.0, t):
+                        solver.advance_to(t, progress=lambda s: True)  # one step
+                        sample()
+                        bar.update(solver)
+                if t in snapshot_times:
+                    snapshot()
+                bar.update(solver, snapshot=t in snapshot_times)
+        except (errors.DivergedError, errors.SolveError) as e:
+            status = "diverged" if isinstance(e, errors.DivergedError) else "failed"
+            reason = str(e)
+            snapshot(force_picture=True)  # the last good state
+            diverged_particle = int(solver.stat("diverged_particle"))
+        bar.update(solver, final=True)
+    wall = clock.perf_counter() - started
+    steps = solver.step_count
+    stages = solver.stages()
+    effects = solver.effects()
+    summary = {
+        "status": status,
+        "reason": reason,
+        "time": solver.time,
+        "steps": steps,
+        "wall_seconds": wall,
+        "stage_seconds": {k: v["seconds"] for k, v in stages.items() if v["active"]},
+        "stage_calls": {k: v["calls"] for k, v in stages.items() if v["active"]},
+        "particles": particle_counts(solver, scene_file.fluids),
+        "effects": {k: {"active": a, "reason": r} for k, (a, r) in effects.items()},
+        "version": version(),
+        "name": scene_file.name,
+        "scene": os.path.abspath(scene_path),
+        "l0": scene_file.l0,
+        "end_time": end,
+        "particle_steps_per_second": n * steps / wall if wall > 0 else None,
+        "memory_bytes": solver.stat("memory_bytes"),
+        "final": solver.stats(),
+        "probes": probes.names,
+        "diverged_particle": diverged_particle,
+    }
+    _write_series(os.path.join(out_dir, "series.csv"), probes.names, rows)
+    with open(os.path.join(out_dir, "summary.json"), "w") as f:
+        json.dump(summary, f, indent=2)
+    if pictures:
+        from .pictures import (front_picture, series_picture, snapshots_picture,
+                               velocity_picture, zoom_picture)
+        title = "%s (libmps2p %s, l0 = %g m)" % (scene_file.name, version(), scene_file.l0)
+        snapshots_picture(os.path.join(out_dir, "snapshots.png"), pictures_data, title,
+                          scene_file.fluids, by="pressure")
+        if len(scene_file.fluids) > 1:
+            snapshots_picture(os.path.join(out_dir, "snapshots_phase.png"), pictures_data,
+                              title, scene_file.fluids, by="phase")
+            densities = [f["density"] for f in scene_file.data["fluid"]]
+            for k, name in enumerate(scene_file.fluids):
+                if densities[k] < max(densities):
+                    velocity_picture(os.path.join(out_dir, "velocity_%s.png" % name),
+                                     pictures_data, title, scene_file.fluids, k)
+        if diverged_particle >= 0 and pictures_data:
+            zoom_picture(os.path.join(out_dir, "divergence.png"), pictures_data[-1],
+                         diverged_particle, 10 * scene_file.l0, title, scene_file.fluids,
+                         reason)
+        if probes.names:
+            series_picture(os.path.join(out_dir, "series.png"), scene_file.probes, rows,
+                           title)
+        tanks = scene_file.data.get("tank", [])
+        origin, wall = (tanks[0]["box"][0], tanks[0]["box"][2]) if tanks else (0.0, None)
+        for p in scene_file.probes:
+            if p["type"] == "front" and "compare" in p:
+                k = probes.names.index(p["name"])
+                data = np.array([[r[0], r[2 + k]] for r in rows])
+                front_picture(os.path.join(out_dir, "front.png"), data, p["column_width"],
+                              title, origin=origin, wall=wall)
+    solver.close()
+    return summary
+
+
+def pictures_available():
+    """True when matplotlib can be imported (the pictures need it)."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def make_output_folder(path):
+    """Creates the output folder (and its parents), or raises FileError with
+    the reason: a file in the way, no permission, a read-only place."""
+    if os.path.exists(path) and not os.path.isdir(path):
+        raise errors.FileError("output folder %s: a file of that name is in the way" % path)
+    try:
+        os.makedirs(path, exist_ok=True)
+    except OSError as e:
+        raise errors.FileError("output folder %s: cannot create it: %s"
+                               % (path, e.strerror or e)) from None
+    if not os.access(path, os.W_OK | os.X_OK):
+        raise errors.FileError("output folder %s: not writable" % path)
+
+
+def _on_schedule(t, times, end):
+    """t, or the scheduled time it stands for (0.15 and 3 x 0.05 are one time)."""
+    near = [s for s in times if abs(s - t) <= 1e-9 * max(1.0, end)]
+    return near[0] if near else t
+
+
+def snapshot_arrays(solver):
+    """What the pictures draw from one snapshot."""
+    return {"time": solver.time, "positions": solver.positions(),
+            "velocities": solver.velocities(), "pressure": solver.pressure(),
+            "kinds": solver.kinds(), "fluid_ids": solver.fluid_ids()}
+
+
+def _write_series(path, names, rows):
+    with open(path, "w") as f:
+        f.write(",".join(["time", "step"] + names) + "\n")
+        for row in rows:
+            f.write(",".join(["%.9g" % row[0], "%d" % row[1]] + ["%.9g" % v for v in row[2:]])
+                    + "\n")

@@ -1,0 +1,391 @@
+"""Scene files: a TOML description of a run (fluids, particles, parameters,
+end time, output schedule, probes), checked strictly: an unknown key, a wrong
+type or impossible geometry is refused with the file, the key and the reason.
+
+Layout (every table is optional unless marked):
+
+    [run]                       # required
+    name = "dam_break"          # the output folder's name, out/<name> (default: the
+                                # file's name): 1 to 100 letters, digits, _ - . not
+                                # starting with . (one path component, never a path)
+    description = "..."         # one line, shown by `mps2p examples`
+    l0 = 0.01                   # particle spacing (m), required
+    end_time = 1.0              # s, required
+    snapshot_every = 0.1        # s between snapshots (0 = first and last only;
+                                # at most 100,000 snapshots in a run)
+    picture_times = [0.1, 0.4]  # snapshots drawn in the pictures (default: six, evenly)
+    series_every = 0.01         # s between probe samples (0 = every step; at most
+                                # 10,000,000 samples in a run)
+
+    [parameters]                # numeric parameters of the C library, by name
+    [options]                   # named choices, e.g. pressure_solver = "cg"
+    [effects]                   # viscosity = "off" (auto | on | off), as option effect.<name>
+
+    [[fluid]]                   # name, density (kg/m^3), viscosity (m^2/s)
+    [[fluid_box]]               # fluid = "water", box = [x0, y0, x1, y1]
+    [[tank]]                    # box = [x0, y0, x1, y1], open_top = true
+    [[wall_box]]                # box = [x0, y0, x1, y1]
+    [[particles]]               # file = "x.npz" or "x.h5" with positions (n,2),
+                                # kinds (n,), fluid_ids (n,), velocities (n,2) optional
+
+    [[probe]]                   # name, type and the type's keys:
+      type = "pressure"         #   at = [x, y]
+      type = "front"            #   fluid = "water", below = 0.02 (m); optional
+                                #   compare = "martin_moyce_1952", column_width = 0.15
+      type = "count"            #   fluid = "water": its particles (all, not only in the domain)
+      type = "stat"             #   stat = "kinetic_energy" (any solver statistic)
+"""
+import math
+import os
+import re
+import warnings
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python < 3.11
+    import tomli as tomllib
+
+import numpy as np
+
+from .. import errors
+from ..scene import Scene
+from ..solver import STAT_KEYS
+
+NUMBER = "number"
+STRING = "string"
+BOOL = "bool"
+BOX = "box"
+POINT = "point"
+TIMES = "times"
+
+SCHEMA = {
+    "run": ({"l0": NUMBER, "end_time": NUMBER, "snapshot_every": NUMBER,
+             "series_every": NUMBER, "name": STRING, "description": STRING,
+             "picture_times": TIMES},
+            {"l0", "end_time"}),
+    "fluid": ({"name": STRING, "density": NUMBER, "viscosity": NUMBER},
+              {"name", "density", "viscosity"}),
+    "fluid_box": ({"fluid": STRING, "box": BOX}, {"fluid", "box"}),
+    "tank": ({"box": BOX, "open_top": BOOL}, {"box"}),
+    "wall_box": ({"box": BOX}, {"box"}),
+    "particles": ({"file": STRING}, {"file"}),
+    "probe": ({"name": STRING, "type": STRING, "at": POINT, "fluid": STRING,
+               "below": NUMBER, "stat": STRING, "compare": STRING, "column_width": NUMBER},
+              {"name", "type"}),
+}
+ARRAYS_OF_TABLES = ("fluid", "fluid_box", "tank", "wall_box", "particles", "probe")
+PROBE_KEYS = {"pressure": {"at"}, "front": {"fluid", "below", "compare", "column_width"},
+              "count": {"fluid"}, "stat": {"stat"}}
+FRONT_REFERENCES = ("martin_moyce_1952",)
+# Probe names become HDF5 series names (lib/io/results_file.c: 1 to 64 of these).
+PROBE_NAME = re.compile(r"^[A-Za-z0-9_-][A-Za-z0-9_.-]{0,63}$")
+# A run's name is the folder out/<name>: one path component, never "", "." or "..".
+RUN_NAME = re.compile(r"^[A-Za-z0-9_-][A-Za-z0-9_.-]{0,99}$")
+# Each scheduled time is kept in a list, each snapshot in the results file:
+# a schedule finer than this is refused rather than filling memory and disk.
+MAX_SNAPSHOTS = 100000
+MAX_SAMPLES = 10000000
+
+
+class SceneFile:
+    """A checked scene file. `build()` makes the mps2p.Scene; the rest is the
+    run's plan (end time, schedule, probes) for mps2p.run."""
+
+    def __init__(self, path, text, data):
+        self.path = path
+        self.text = text
+        self.data = data
+        run = data["run"]
+        self.name = run.get("name") or default_name(path)
+        self.l0 = run["l0"]
+        self.end_time = run["end_time"]
+        self.snapshot_every = run.get("snapshot_every", 0.0)
+        self.series_every = run.get("series_every", 0.0)
+        self.picture_times = run.get("picture_times")
+        self.fluids = [f["name"] for f in data.get("fluid", [])]
+        self.probes = data.get("probe", [])
+
+    def error(self, key, reason):
+        return errors.SceneFileError("%s: %s: %s" % (self.path, key, reason))
+
+    def build(self):
+        """The scene, built in the order the C library needs (radii before
+        tanks, whose thickness depends on them)."""
+        scene = Scene(self.l0)
+        try:
+            self._build_into(scene)
+        except errors.SceneFileError:
+            scene.close()
+            raise
+        return scene
+
+    def make_solver(self):
+        """The solver for this scene; what the C library refuses at creation
+        (an effect the scene cannot support, overlapping particles) is reported
+        against this file."""
+        from ..solver import Solver
+        with self.build() as scene:
+            try:
+                return Solver(scene)
+            except errors.Error as e:
+                raise errors.SceneFileError("%s: %s" % (self.path, e)) from e
+
+    def _build_into(self, scene):
+        def call(key, function, *args):
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always", errors.SnapWarning)
+                try:
+                    result = function(*args)
+                except (errors.Error, TypeError, ValueError) as e:
+                    raise self.error(key, str(e)) from e
+            for w in caught:  # the same warning, naming the file and key
+                warnings.warn("%s: %s: %s" % (self.path, key, w.message), w.category,
+                              stacklevel=4)
+            return result
+
+        # a scheme sets several parameters and options: first, so that the
+        # file's own settings override it
+        options = dict(self.data.get("options", {}))
+        if "scheme" in options:
+            call("options.scheme", scene.set_option, "scheme", options.pop("scheme"))
+        for key, value in self.data.get("parameters", {}).items():
+            call("parameters." + key, scene.set_param, key, value)
+        for key, value in options.items():
+            call("options." + key, scene.set_option, key, value)
+        for key, value in self.data.get("effects", {}).items():
+            call("effects." + key, scene.set_option, "effect." + key, value)
+        ids = {}
+        for i, f in enumerate(self.data.get("fluid", [])):
+            ids[f["name"]] = call("fluid[%d]" % i, scene.add_fluid, f["name"], f["density"],
+                                  f["viscosity"])
+        for i, b in enumerate(self.data.get("fluid_box", [])):
+            call("fluid_box[%d]" % i, scene.add_fluid_box, ids[b["fluid"]], *b["box"])
+        for i, t in enumerate(self.data.get("tank", [])):
+            call("tank[%d]" % i, scene.add_tank, *t["box"], t.get("open_top", True))
+        for i, w in enumerate(self.data.get("wall_box", [])):
+            call("wall_box[%d]" % i, scene.add_wall_box, *w["box"])
+        for i, p in enumerate(self.data.get("particles", [])):
+            key = "particles[%d]" % i
+            arrays = self._read_particles(key, p["file"])
+            call(key, scene.add_particles, arrays["positions"], arrays["kinds"],
+                 arrays.get("fluid_ids"), arrays.get("velocities"))
+        if scene.particle_count == 0:
+            raise self.error("fluid_box", "the scene has no particles")
+
+    def _read_particles(self, key, name):
+        path = name if os.path.isabs(name) else os.path.join(os.path.dirname(self.path), name)
+        if not os.path.exists(path):
+            raise self.error(key + ".file", "no such file: %s" % path)
+        try:
+            if path.endswith(".npz"):
+                with np.load(path) as f:
+                    arrays = {k: np.array(f[k]) for k in f.files}
+            elif path.endswith((".h5", ".hdf5")):
+                import h5py
+                with h5py.File(path, "r") as f:
+                    arrays = {k: np.array(f[k]) for k in f.keys()}
+            else:
+                raise self.error(key + ".file", "must end in .npz or .h5, got %s" % name)
+        except errors.SceneFileError:
+            raise
+        except Exception as e:  # a damaged file: say which and why
+            raise self.error(key + ".file", "cannot read %s: %s" % (path, e)) from e
+        allowed = {"positions", "kinds", "fluid_ids", "velocities"}
+        unknown = sorted(set(arrays) - allowed)
+        if unknown:
+            raise self.error(key + ".file", "%s: unknown arrays %s (allowed: %s)"
+                             % (path, unknown, sorted(allowed)))
+        for needed in ("positions", "kinds"):
+            if needed not in arrays:
+                raise self.error(key + ".file", "%s has no array '%s'" % (path, needed))
+        # shapes and kinds of number here, with the file's name; ranges in the binding
+        n = arrays["positions"].shape[0] if arrays["positions"].ndim == 2 else -1
+        for name_, shape, integer in (("positions", (n, 2), False), ("kinds", (n,), True),
+                                      ("fluid_ids", (n,), True), ("velocities", (n, 2), False)):
+            if name_ not in arrays:
+                continue
+            array = arrays[name_]
+            wanted = "(n, 2)" if len(shape) == 2 else "(n,)"
+            if n < 0 or array.shape != shape:
+                raise self.error(key + ".file", "%s: %s must have shape %s%s, got %s"
+                                 % (path, name_, wanted, "" if n < 0 or name_ == "positions"
+                                    else " with n = %d as positions" % n, array.shape))
+            kind = array.dtype.kind
+            if (integer and kind not in "iu") or (not integer and kind not in "iuf"):
+                raise self.error(key + ".file", "%s: %s must hold %s, got %s"
+                                 % (path, name_, "integers" if integer else "real numbers",
+                                    array.dtype))
+        return arrays
+
+
+def load(path):
+    """Reads and checks a scene file; returns a SceneFile."""
+    try:
+        with open(path, "rb") as f:
+            raw = f.read()
+    except OSError as e:
+        raise errors.SceneFileError("%s: cannot read: %s" % (path, e.strerror or e)) from e
+    try:
+        text = raw.decode("utf-8")
+        data = tomllib.loads(text)
+    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as e:
+        raise errors.SceneFileError("%s: not valid TOML: %s" % (path, e)) from e
+    except RecursionError:
+        raise errors.SceneFileError("%s: not a scene file: arrays or tables nested too deep"
+                                    % path) from None
+    check(path, data)
+    return SceneFile(path, text, data)
+
+
+def check(path, data):
+    """Refuses unknown keys, wrong types and impossible values, naming the key."""
+    def fail(key, reason):
+        raise errors.SceneFileError("%s: %s: %s" % (path, key, reason))
+
+    known = set(SCHEMA) | {"parameters", "options", "effects"}
+    for key in data:
+        if key not in known:
+            fail(key, "unknown table (known: %s)" % ", ".join(sorted(known)))
+    if "run" not in data:
+        fail("run", "missing: a scene needs [run] with l0 and end_time")
+    for section in ("parameters", "options", "effects"):
+        table = data.get(section, {})
+        if not isinstance(table, dict):
+            fail(section, "must be a table")
+        for key, value in table.items():
+            want_str = section != "parameters"
+            if want_str and not isinstance(value, str):
+                fail("%s.%s" % (section, key), "must be a string, got %r" % (value,))
+            if not want_str and not _is_number(value):
+                fail("%s.%s" % (section, key), "must be a number, got %r" % (value,))
+    for section, (fields, required) in SCHEMA.items():
+        if section not in data:
+            continue
+        entries = data[section]
+        if section in ARRAYS_OF_TABLES:
+            if not isinstance(entries, list):
+                fail(section, "must be an array of tables ([[%s]])" % section)
+            labelled = [("%s[%d]" % (section, i), e) for i, e in enumerate(entries)]
+        else:
+            if not isinstance(entries, dict):
+                fail(section, "must be a table ([%s])" % section)
+            labelled = [(section, entries)]
+        for label, entry in labelled:
+            if not isinstance(entry, dict):
+                fail(label, "must be a table")
+            for key, value in entry.items():
+                if key not in fields:
+                    fail("%s.%s" % (label, key),
+                         "unknown key (known: %s)" % ", ".join(sorted(fields)))
+                _check_value(fail, "%s.%s" % (label, key), fields[key], value)
+            for key in sorted(required - set(entry)):
+                fail("%s.%s" % (label, key), "missing")
+    run = data["run"]
+    for key in ("l0", "end_time"):
+        if not run[key] > 0:
+            fail("run." + key, "must be > 0, got %r" % run[key])
+    if "name" in run and not RUN_NAME.match(run["name"]):
+        fail("run.name", "must be 1 to 100 letters, digits, _ - . not starting with . (it "
+             "names the folder out/<name>), got %s" % _shorten(run["name"]))
+    for key in ("snapshot_every", "series_every"):
+        if key in run and run[key] < 0:
+            fail("run." + key, "must be >= 0, got %r" % run[key])
+    schedule_problem = check_schedule(run["end_time"], run.get("snapshot_every", 0.0),
+                                      run.get("series_every", 0.0))
+    if schedule_problem:
+        fail(*schedule_problem)
+    for t in run.get("picture_times", []):
+        if not 0 <= t <= run["end_time"]:
+            fail("run.picture_times", "each time must be in [0, end_time], got %r" % t)
+    names = [f["name"] for f in data.get("fluid", [])]
+    if len(set(names)) != len(names):
+        fail("fluid", "fluid names must be unique, got %s" % names)
+    for i, b in enumerate(data.get("fluid_box", [])):
+        if b["fluid"] not in names:
+            fail("fluid_box[%d].fluid" % i, "no fluid named %r (fluids: %s)" % (b["fluid"], names))
+    _check_probes(fail, data.get("probe", []), names)
+
+
+def check_schedule(end_time, snapshot_every, series_every):
+    """(key, reason) when the output schedule up to end_time is too fine to
+    keep, else None."""
+    for key, every, most, what in (("run.snapshot_every", snapshot_every, MAX_SNAPSHOTS,
+                                    "snapshots"),
+                                   ("run.series_every", series_every, MAX_SAMPLES, "samples")):
+        if every > 0 and end_time / every > most:
+            return key, ("%r s gives %.3g %s up to %g s, more than %d; use a coarser interval%s"
+                         % (every, end_time / every, what, end_time, most,
+                            " or 0 (every step)" if what == "samples" else ""))
+    return None
+
+
+def default_name(path):
+    """The run's name when [run] has none: the file's name without .toml,
+    made one safe path component."""
+    stem = os.path.splitext(os.path.basename(path))[0]
+    name = re.sub(r"[^A-Za-z0-9_.-]", "_", stem)[:100].lstrip(".")
+    return name or "run"
+
+
+def _shorten(text, most=60):
+    return repr(text) if len(text) <= most else "%r... (%d characters)" % (text[:most], len(text))
+
+
+def _check_probes(fail, probes, fluid_names):
+    seen = set()
+    for i, p in enumerate(probes):
+        label = "probe[%d]" % i
+        if not PROBE_NAME.match(p["name"]):
+            fail(label + ".name", "1 to 64 letters, digits, _ - . not starting with ., got %s"
+                 % _shorten(p["name"]))
+        if p["name"] in seen:
+            fail(label + ".name", "another probe is called %r" % p["name"])
+        seen.add(p["name"])
+        kind = p["type"]
+        if kind not in PROBE_KEYS:
+            fail(label + ".type", "must be one of %s, got %r" % (sorted(PROBE_KEYS), kind))
+        extra = set(p) - {"name", "type"} - PROBE_KEYS[kind]
+        if extra:
+            fail(label, "keys %s do not apply to a %s probe" % (sorted(extra), kind))
+        missing = PROBE_KEYS[kind] - set(p)
+        if kind == "front":
+            missing -= {"below", "compare", "column_width"}
+            if ("compare" in p) != ("column_width" in p):
+                fail(label, "compare and column_width go together (the reference's Z = z/a "
+                     "needs the column width a)")
+            if "compare" in p and p["compare"] not in FRONT_REFERENCES:
+                fail(label + ".compare", "must be one of %s, got %r"
+                     % (list(FRONT_REFERENCES), p["compare"]))
+            if "column_width" in p and not p["column_width"] > 0:
+                fail(label + ".column_width", "must be > 0, got %r" % p["column_width"])
+        if missing:
+            fail(label, "a %s probe needs %s" % (kind, sorted(missing)))
+        if "fluid" in p and p["fluid"] not in fluid_names:
+            fail(label + ".fluid", "no fluid named %r (fluids: %s)" % (p["fluid"], fluid_names))
+        if kind == "stat" and p["stat"] not in STAT_KEYS:
+            fail(label + ".stat", "must be one of %s, got %r" % (", ".join(STAT_KEYS), p["stat"]))
+        if kind == "front" and "below" in p and not p["below"] > 0:
+            fail(label + ".below", "must be > 0, got %r" % p["below"])
+
+
+def _is_number(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and \
+        math.isfinite(value)
+
+
+def _check_value(fail, key, kind, value):
+    if kind == NUMBER and not _is_number(value):
+        fail(key, "must be a finite number, got %r" % (value,))
+    if kind == STRING and not isinstance(value, str):
+        fail(key, "must be a string, got %r" % (value,))
+    if kind == BOOL and not isinstance(value, bool):
+        fail(key, "must be true or false, got %r" % (value,))
+    if kind == TIMES and not (isinstance(value, list) and value and
+                              all(map(_is_number, value)) and len(value) <= 12):
+        fail(key, "must be a list of 1 to 12 numbers, got %r" % (value,))
+    if kind in (BOX, POINT):
+        size = 4 if kind == BOX else 2
+        if not (isinstance(value, list) and len(value) == size and all(map(_is_number, value))):
+            fail(key, "must be %d numbers, got %r" % (size, value))
+        if kind == BOX and not (value[2] > value[0] and value[3] > value[1]):
+            fail(key, "box [x0, y0, x1, y1] needs x1 > x0 and y1 > y0, got %r" % (value,))

@@ -1,0 +1,343 @@
+/* Cell-linked list and a Verlet neighbour list reused by every stage, with
+ * a short list of the pairs within the density radius taken from it. */
+#include "numerics/numerics.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Keeps the grid small when the domain is huge compared with the cutoff. */
+#define MAX_CELLS_PER_PARTICLE 4
+#define MIN_CELL_BUDGET 65536
+
+int neighbours_init(neighbour_list *list, size_t count, double cutoff, double skin,
+                    double short_radius, const double domain[4])
+{
+    memset(list, 0, sizeof *list);
+    list->count = count;
+    list->cutoff = cutoff;
+    list->skin = skin;
+    /* a short list as long as the long one would only cost its copy */
+    if (short_radius > 0.0 && short_radius + skin < cutoff)
+        list->short_radius = short_radius;
+    list->origin[0] = domain[0];
+    list->origin[1] = domain[1];
+    double width = domain[2] - domain[0], height = domain[3] - domain[1];
+    double budget = fmax((double)MIN_CELL_BUDGET, (double)MAX_CELLS_PER_PARTICLE * count);
+    double cell = cutoff;
+    /* Cells of at least sqrt(area / budget) and of each side / budget: at
+     * most about 3 budget cells, however long and thin the domain (the area
+     * bound alone let a thin domain have more cells along it than a size_t
+     * holds). The callers make width and height finite. */
+    if ((width / cell + 1) * (height / cell + 1) > budget)
+        cell = fmax(sqrt(width * height / budget), fmax(width, height) / budget) * 1.01 + cutoff;
+    list->cell_size = cell;
+    list->cells[0] = (size_t)(width / cell) + 1;
+    list->cells[1] = (size_t)(height / cell) + 1;
+    size_t cells = list->cells[0] * list->cells[1];
+    list->start = calloc(count + 1, sizeof *list->start);
+    list->built_at = malloc(2 * count * sizeof *list->built_at);
+    list->cell_start = malloc((cells + 1) * sizeof *list->cell_start);
+    list->cell_cursor = malloc(cells * sizeof *list->cell_cursor);
+    list->cell_particle = malloc(count * sizeof *list->cell_particle);
+    list->particle_cell = malloc(count * sizeof *list->particle_cell);
+    if (list->short_radius > 0.0)
+        list->short_start = calloc(count + 1, sizeof *list->short_start);
+    if (!list->start || !list->built_at || !list->cell_start || !list->cell_cursor ||
+        !list->cell_particle || !list->particle_cell ||
+        (list->short_radius > 0.0 && !list->short_start)) {
+        neighbours_free(list);
+        return MPS2P_ERR_NOMEM;
+    }
+    return MPS2P_OK;
+}
+
+void neighbours_free(neighbour_list *list)
+{
+    free(list->start);
+    free(list->index);
+    free(list->built_at);
+    free(list->cell_start);
+    free(list->cell_cursor);
+    free(list->cell_particle);
+    free(list->particle_cell);
+    free(list->short_start);
+    free(list->short_index);
+    memset(list, 0, sizeof *list);
+}
+
+static size_t cell_coordinate(double x, double origin, double size, size_t cells)
+{
+    double c = floor((x - origin) / size);
+    if (!(c >= 0.0)) /* also catches NaN */
+        return 0;
+    if (c >= (double)cells)
+        return cells - 1;
+    return (size_t)c;
+}
+
+static int needs_rebuild(const neighbour_list *list, const double *position)
+{
+    if (list->builds == 0 || list->stale)
+        return 1;
+    double limit2 = 0.25 * list->skin * list->skin;
+    int moved = 0; /* an OR: the same for any split among threads */
+    PARALLEL_FOR(list->threads, schedule(static) reduction(| : moved),
+    for (size_t i = 0; i < list->count; i++) {
+        double dx = position[2 * i] - list->built_at[2 * i];
+        double dy = position[2 * i + 1] - list->built_at[2 * i + 1];
+        moved |= !(dx * dx + dy * dy <= limit2);
+    });
+    return moved;
+}
+
+/* Counting sort of particles into cells; particles keep index order inside a
+ * cell, so the lists come out the same on every run. */
+static void sort_into_cells(neighbour_list *list, const double *position)
+{
+    size_t cells = list->cells[0] * list->cells[1];
+    memset(list->cell_start, 0, (cells + 1) * sizeof *list->cell_start);
+    for (size_t i = 0; i < list->count; i++) {
+        size_t cx = cell_coordinate(position[2 * i], list->origin[0], list->cell_size,
+                                    list->cells[0]);
+        size_t cy = cell_coordinate(position[2 * i + 1], list->origin[1], list->cell_size,
+                                    list->cells[1]);
+        list->particle_cell[i] = cy * list->cells[0] + cx;
+        list->cell_start[list->particle_cell[i] + 1]++;
+    }
+    for (size_t c = 0; c < cells; c++)
+        list->cell_start[c + 1] += list->cell_start[c];
+    memcpy(list->cell_cursor, list->cell_start, cells * sizeof *list->cell_cursor);
+    for (size_t i = 0; i < list->count; i++)
+        list->cell_particle[list->cell_cursor[list->particle_cell[i]]++] = i;
+}
+
+/* Entries taken from one cell at a time before merging (a cell's pairs are
+ * merged in chunks of this size when it holds more). */
+#define MERGE_CHUNK 128
+
+/* Merges the sorted run in[0..r) into the sorted row out[0..m), from the back,
+ * so that out[0..m+r) is sorted; returns m + r. */
+static size_t merge_into(size_t *out, size_t m, const size_t *in, size_t r)
+{
+    if (m == 0 || out[m - 1] < in[0]) { /* the runs do not overlap: append */
+        memcpy(out + m, in, r * sizeof *in);
+        return m + r;
+    }
+    size_t a = m, b = r, w = m + r;
+    while (b > 0) {
+        if (a > 0 && out[a - 1] > in[b - 1])
+            out[--w] = out[--a];
+        else
+            out[--w] = in[--b];
+    }
+    return m + r;
+}
+
+/* Visits the 3x3 cells around particle i; counts, or also stores (out),
+ * neighbours closer than cutoff, sorted by index. *near (with a short list)
+ * gets how many of them are closer than short_radius + skin, which are also
+ * stored, in the same order, in short_out when out is given. The short list
+ * is decided here, from the same distances as the long one, so that the
+ * counting and the storing pass agree as they do for the long list.
+ * Rows must be sorted by index: the stages sum over them in that order, and
+ * the order fixes the bits of every sum. A cell lists its particles in index
+ * order (sort_into_cells), so each cell gives a sorted run, and the row is
+ * the merge of those runs: no general sort. */
+static size_t gather(const neighbour_list *list, const double *position, size_t i,
+                     size_t *out, size_t *short_out, size_t *near)
+{
+    double cut2 = list->cutoff * list->cutoff;
+    const int with_short = list->short_start != NULL;
+    const double short_cut = list->short_radius + list->skin;
+    const double short_cut2 = with_short ? short_cut * short_cut : 0.0;
+    const double xi = position[2 * i], yi = position[2 * i + 1];
+    size_t c = list->particle_cell[i];
+    long cx = (long)(c % list->cells[0]), cy = (long)(c / list->cells[0]);
+    long x0 = cx > 0 ? cx - 1 : 0;
+    long x1 = cx + 1 < (long)list->cells[0] ? cx + 1 : cx;
+    size_t found = 0, found_near = 0;
+    size_t run[MERGE_CHUNK];
+    for (long y = cy - 1; y <= cy + 1; y++) {
+        if (y < 0 || y >= (long)list->cells[1])
+            continue;
+        size_t row_cell = (size_t)y * list->cells[0];
+        if (!out) {
+            /* counting: the row's cells are one span of cell_particle */
+            size_t end = list->cell_start[row_cell + (size_t)x1 + 1];
+            for (size_t k = list->cell_start[row_cell + (size_t)x0]; k < end; k++) {
+                size_t j = list->cell_particle[k];
+                double dx = position[2 * j] - xi, dy = position[2 * j + 1] - yi;
+                double d2 = dx * dx + dy * dy;
+                int in = d2 < cut2 && j != i;
+                found += (size_t)in;
+                found_near += (size_t)(in && d2 < short_cut2);
+            }
+            continue;
+        }
+        for (long x = x0; x <= x1; x++) {
+            size_t cell = row_cell + (size_t)x;
+            size_t k = list->cell_start[cell], end = list->cell_start[cell + 1];
+            while (k < end) {
+                size_t taken = 0;
+                for (; k < end && taken < MERGE_CHUNK; k++) {
+                    size_t j = list->cell_particle[k];
+                    double dx = position[2 * j] - xi, dy = position[2 * j + 1] - yi;
+                    double d2 = dx * dx + dy * dy;
+                    if (d2 < cut2 && j != i) {
+                        int is_near = d2 < short_cut2;
+                        /* with a short list, the low bit marks its pairs until split */
+                        run[taken++] = with_short ? 2 * j + (size_t)is_near : j;
+                        found_near += (size_t)is_near;
+                    }
+                }
+                if (taken > 0)
+                    found = merge_into(out, found, run, taken);
+            }
+        }
+    }
+    if (out && with_short) {
+        /* Without a branch (about a third are near, in no pattern): a far
+         * pair is written to the next near one's slot, or past the row's last
+         * near one into sink; never into the next row, which another thread
+         * may be filling. */
+        size_t stored = 0, sink;
+        for (size_t k = 0; k < found; k++) {
+            size_t j = out[k] / 2;
+            *(stored < found_near ? short_out + stored : &sink) = j;
+            stored += out[k] % 2;
+            out[k] = j;
+        }
+    }
+    if (near)
+        *near = found_near;
+    return found;
+}
+
+/* Grows an index array to hold total entries; 0 when it cannot. */
+static int reserve(size_t **index, size_t *capacity, size_t total)
+{
+    if (total <= *capacity)
+        return 1;
+    size_t grown_capacity = total + total / 4 + 16;
+    size_t *grown = realloc(*index, grown_capacity * sizeof *grown);
+    if (!grown)
+        return 0;
+    *index = grown;
+    *capacity = grown_capacity;
+    return 1;
+}
+
+/* Empty, consistent lists after a failed growth: start[] already counts the
+ * new pairs that index[] cannot hold. They are rebuilt at the next update
+ * even if the particles are back where the last build saw them (a failed
+ * step restores them). */
+static int fail_growth(neighbour_list *list)
+{
+    memset(list->start, 0, (list->count + 1) * sizeof *list->start);
+    if (list->short_start)
+        memset(list->short_start, 0, (list->count + 1) * sizeof *list->short_start);
+    list->stale = 1;
+    return MPS2P_ERR_NOMEM;
+}
+
+/* Particles in the 3x3 cells around particle i: a bound on its row. */
+static size_t candidates(const neighbour_list *list, size_t i)
+{
+    size_t c = list->particle_cell[i], columns = list->cells[0];
+    size_t cx = c % columns, cy = c / columns;
+    size_t x0 = cx > 0 ? cx - 1 : 0, x1 = cx + 1 < columns ? cx + 1 : cx;
+    size_t y0 = cy > 0 ? cy - 1 : 0, y1 = cy + 1 < list->cells[1] ? cy + 1 : cy;
+    size_t total = 0;
+    for (size_t y = y0; y <= y1; y++)
+        total += list->cell_start[y * columns + x1 + 1] - list->cell_start[y * columns + x0];
+    return total;
+}
+
+/* One thread: each row is stored as it is found, room made from the bound
+ * of its candidates, with no counting pass; the same lists as two passes. */
+static int build_in_one_pass(neighbour_list *list, const double *position)
+{
+    const int with_short = list->short_start != NULL;
+    size_t total = 0, short_total = 0;
+    list->start[0] = 0;
+    if (with_short)
+        list->short_start[0] = 0;
+    for (size_t i = 0; i < list->count; i++) {
+        size_t bound = candidates(list, i);
+        /* the short index keeps one spare slot, so it is never NULL */
+        if (!reserve(&list->index, &list->capacity, total + bound) ||
+            (with_short &&
+             !reserve(&list->short_index, &list->short_capacity, short_total + bound + 1)))
+            return fail_growth(list);
+        size_t near = 0;
+        total += gather(list, position, i, list->index + total,
+                        with_short ? list->short_index + short_total : NULL, &near);
+        short_total += near;
+        list->start[i + 1] = total;
+        if (with_short)
+            list->short_start[i + 1] = short_total;
+    }
+    return MPS2P_OK;
+}
+
+/* Several threads: a counting pass, then each row stored in its own slots. */
+static int build_in_two_passes(neighbour_list *list, const double *position)
+{
+    const int with_short = list->short_start != NULL;
+    const size_t n = list->count;
+    /* Each row is counted, then stored, by one thread, into its own slots:
+     * the lists do not depend on the number of threads. */
+    list->start[0] = 0;
+    if (with_short)
+        list->short_start[0] = 0;
+    PARALLEL_FOR(list->threads, schedule(static),
+    for (size_t i = 0; i < n; i++) {
+        size_t near = 0;
+        list->start[i + 1] = gather(list, position, i, NULL, NULL, &near);
+        if (with_short)
+            list->short_start[i + 1] = near;
+    });
+    for (size_t i = 0; i < n; i++) {
+        list->start[i + 1] += list->start[i];
+        if (with_short)
+            list->short_start[i + 1] += list->short_start[i];
+    }
+    size_t total = list->start[n];
+    /* the short index: one spare slot, so never NULL */
+    if (!reserve(&list->index, &list->capacity, total) ||
+        (with_short &&
+         !reserve(&list->short_index, &list->short_capacity, list->short_start[list->count] + 1)))
+        return fail_growth(list);
+    if (total > 0) { /* no pairs: index may be NULL */
+        PARALLEL_FOR(list->threads, schedule(static),
+        for (size_t i = 0; i < n; i++) {
+            gather(list, position, i, list->index + list->start[i],
+                   with_short ? list->short_index + list->short_start[i] : NULL, NULL);
+        });
+    }
+    return MPS2P_OK;
+}
+
+int neighbours_update(neighbour_list *list, const double *position)
+{
+    if (!needs_rebuild(list, position))
+        return MPS2P_OK;
+    sort_into_cells(list, position);
+    int status = team_size(list->threads) == 1 ? build_in_one_pass(list, position)
+                                               : build_in_two_passes(list, position);
+    if (status != MPS2P_OK)
+        return status;
+    memcpy(list->built_at, position, 2 * list->count * sizeof *position);
+    list->builds++;
+    list->stale = 0;
+    return MPS2P_OK;
+}
+
+int neighbours_restore(neighbour_list *list, const double *built_at, unsigned long builds)
+{
+    list->builds = 0; /* forces the build */
+    int status = neighbours_update(list, built_at);
+    list->builds = builds;
+    return status;
+}

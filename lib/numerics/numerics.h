@@ -1,0 +1,169 @@
+/* Numerics that know no solver: the threads of a particle loop, the MPS
+ * kernel and the reference lattice (kernel.c), the neighbour list
+ * (neighbours.c), sparse matrices and their solvers (linear_solver.c). */
+#ifndef MPS2P_NUMERICS_H
+#define MPS2P_NUMERICS_H
+
+#include "mps2p.h" /* status codes */
+
+#include <stddef.h>
+#include <stdint.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+/* Threads of a parallel loop for a `threads` setting (parameter threads:
+ * 0 = OpenMP's default). Given to each loop's num_threads clause, never set
+ * process-wide, so two solvers can run with different counts side by side. */
+static inline int team_size(double threads)
+{
+#ifdef _OPENMP
+    return threads >= 1.0 ? (int)threads : omp_get_max_threads();
+#else
+    (void)threads;
+    return 1;
+#endif
+}
+
+/* PARALLEL_FOR(threads, clauses, for-statement): the loop over team_size
+ * threads with OpenMP's "parallel for" and the given clauses (schedule,
+ * reduction, if; no commas). With one thread, or without OpenMP, it is the
+ * plain loop: libgomp is never entered, since it exits the process when its
+ * own allocations fail (libmps2p returns MPS2P_ERR_NOMEM instead). Each
+ * iteration writes only its own outputs, or the clause is an order-free
+ * reduction (|, + of integers), so the results do not depend on the team. */
+#ifdef _OPENMP
+#define OMP_PRAGMA_(...) _Pragma(#__VA_ARGS__)
+#define PARALLEL_FOR(threads, clauses, ...)                                      \
+    do {                                                                         \
+        const int team_ = team_size(threads);                                    \
+        if (team_ > 1) {                                                         \
+            OMP_PRAGMA_(omp parallel for num_threads(team_) clauses)             \
+            __VA_ARGS__                                                          \
+        } else {                                                                 \
+            __VA_ARGS__                                                          \
+        }                                                                        \
+    } while (0)
+#else
+#define PARALLEL_FOR(threads, clauses, ...)                                      \
+    do {                                                                         \
+        (void)(threads);                                                         \
+        __VA_ARGS__                                                              \
+    } while (0)
+#endif
+
+/* Reductions (sums, maxima) are taken over fixed blocks of this many
+ * particles or unknowns, each summed in order, and the block results
+ * combined in block order: the same bits for any number of threads. */
+#define REDUCTION_BLOCK 1024
+
+/* ---- kernel and reference lattice (kernel.c) ---- */
+
+static inline double kernel_weight(double r, double re)
+{
+    return (r > 0.0 && r < re) ? re / r - 1.0 : 0.0;
+}
+
+/* n0 and lambda of an interior particle of the square lattice of spacing l0. */
+void lattice_constants(double l0, double re, double *n0, double *lambda);
+
+/* ---- neighbour list (neighbours.c) ---- */
+
+/* Every pair closer than cutoff = max radius + skin, kept as a compressed
+ * row list (both directions, ordered by index); rebuilt when a particle has
+ * moved more than skin / 2 since the last build, so each stage can reuse it.
+ * At each build a short list is also taken from it: the pairs closer than
+ * short_radius + skin (short_radius = re_density l0), in the same order, for
+ * the stages that look no further than short_radius (about 20 neighbours
+ * instead of 60); see neighbour_rows_within. */
+typedef struct neighbour_list {
+    double cutoff, skin;
+    size_t count;
+    size_t *start;       /* count + 1 */
+    size_t *index;       /* start[count] entries */
+    size_t capacity;
+    double short_radius; /* 0 = no short list (it would be the long one) */
+    size_t *short_start; /* count + 1, NULL without a short list */
+    size_t *short_index; /* short_start[count] entries */
+    size_t short_capacity;
+    double *built_at;    /* positions at the last build, 2 * count */
+    /* cell grid over the domain */
+    double origin[2];
+    double cell_size;
+    size_t cells[2];
+    size_t *cell_start;  /* cells + 1 */
+    size_t *cell_cursor; /* cells, fill position while sorting */
+    size_t *cell_particle;
+    size_t *particle_cell;
+    unsigned long builds;
+    int stale;           /* a rebuild failed half-way: rebuild at the next update */
+    double threads;      /* parameter threads (team_size) */
+} neighbour_list;
+
+/* short_radius: the radius the short list must serve (re_density l0); 0, or
+ * one within skin of cutoff, keeps no short list. */
+int neighbours_init(neighbour_list *list, size_t count, double cutoff, double skin,
+                    double short_radius, const double domain[4]);
+void neighbours_free(neighbour_list *list);
+/* Rebuilds both lists when needed; returns MPS2P_OK or MPS2P_ERR_NOMEM (both
+ * lists then empty and stale, rebuilt at the next update). */
+int neighbours_update(neighbour_list *list, const double *position);
+/* Builds the list from the positions of an earlier build (built_at) and sets
+ * the build count, so that a restored solver reuses the same pairs and makes
+ * the same rebuild decisions as the one it was saved from. built_at must not
+ * be list->built_at itself (it is copied there). */
+int neighbours_restore(neighbour_list *list, const double *built_at, unsigned long builds);
+
+/* The rows a stage loops over for the pairs closer than radius: the short
+ * list when radius is within its radius, else the long one. The short list
+ * holds, in the same order, every pair of the long one closer than
+ * short_radius + skin at the build, so a stage that skips the pairs at radius
+ * or beyond sees the same pairs, in the same order, from either: its sums
+ * come out bit for bit the same. */
+typedef struct neighbour_rows {
+    const size_t *start, *index;
+} neighbour_rows;
+
+static inline neighbour_rows neighbour_rows_within(const neighbour_list *list, double radius)
+{
+    neighbour_rows rows = {list->start, list->index};
+    if (list->short_start && radius <= list->short_radius) {
+        rows.start = list->short_start;
+        rows.index = list->short_index;
+    }
+    return rows;
+}
+
+/* ---- linear solvers (linear_solver.c) ---- */
+
+enum pressure_solver_kind { PRESSURE_SOLVER_CHOLMOD = 0, PRESSURE_SOLVER_CG = 1 };
+enum cg_preconditioner_kind { CG_PRECONDITIONER_JACOBI = 0, CG_PRECONDITIONER_IC0 = 1 };
+
+/* A symmetric matrix in compressed rows, full pattern (both triangles). */
+typedef struct sparse_matrix {
+    int rows;
+    int *row_start;      /* rows + 1; int, as CHOLMOD's int interface wants */
+    int *column;
+    double *value;
+    size_t capacity;     /* of column and value */
+    size_t row_capacity; /* of row_start */
+} sparse_matrix;
+
+typedef struct linear_solver linear_solver;
+
+/* kind: enum pressure_solver_kind; preconditioner: enum cg_preconditioner_kind
+ * (CG only); threads: parameter threads, for CG's loops (team_size). */
+int linear_solver_create(int kind, int preconditioner, double threads,
+                         linear_solver **solver);
+void linear_solver_destroy(linear_solver *solver);
+/* Solves A x = b; x holds the initial guess on entry (used by CG). */
+/* CHOLMOD symbolic analyses so far (a matrix of the last one's pattern reuses it). */
+uint64_t linear_solver_analyses(const linear_solver *solver);
+/* Bytes of workspace, CHOLMOD's included. */
+size_t linear_solver_memory(const linear_solver *solver);
+int linear_solver_solve(linear_solver *solver, const sparse_matrix *a,
+                        const double *b, double *x, double tolerance,
+                        size_t max_iterations, size_t *iterations,
+                        double *residual, char *message, size_t size);
+
+#endif

@@ -1,0 +1,40 @@
+/* Particle number density n_i = sum_j w(|r_ij|) with the density radius,
+ * for the stages number_density_start (n^k, for the mixed and ecs PPE
+ * sources) and number_density (n* at r*). */
+#include "numerics/numerics.h"
+#include "core/core.h"
+#include "stages/stages.h"
+
+#include <math.h>
+
+void number_density_compute(mps2p_solver *s, double *out)
+{
+    const double re = s->params.re_density * s->l0;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
+    const double *position = s->state.position;
+    PARALLEL_FOR(s->params.threads, schedule(static),
+    for (size_t i = 0; i < s->count; i++) {
+        double n = 0.0;
+        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+            size_t j = nl.index[k];
+            double dx = position[2 * j] - position[2 * i];
+            double dy = position[2 * j + 1] - position[2 * i + 1];
+            n += kernel_weight(sqrt(dx * dx + dy * dy), re);
+        }
+        out[i] = n;
+    });
+}
+
+int number_density_start(mps2p_solver *s, double dt)
+{
+    (void)dt;
+    number_density_compute(s, s->number_density_start);
+    return MPS2P_OK;
+}
+
+int number_density_star(mps2p_solver *s, double dt)
+{
+    (void)dt;
+    number_density_compute(s, s->number_density);
+    return MPS2P_OK;
+}

@@ -1,0 +1,171 @@
+/* The MPS particle operators (docs/method.md section 1), at one particle. */
+#include "numerics/numerics.h"
+#include "core/core.h"
+#include "stages/stages.h"
+
+#include <math.h>
+
+void gradient_at(const mps2p_solver *s, size_t i, const double *field, double reference,
+                 double out[2])
+{
+    gradient_masked_at(s, i, field, reference, NULL, out);
+}
+
+/* The gradient of f_j = field[stride * j + offset] with the given reference,
+ * over non-dummy neighbours (those of mask, when given) within re_density. */
+static void gradient_core(const mps2p_solver *s, size_t i, const double *field, size_t stride,
+                          size_t offset, double reference, const unsigned char *mask,
+                          double out[2])
+{
+    const double re = s->params.re_density * s->l0, re2 = re * re;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
+    const double *position = s->state.position;
+    double gx = 0.0, gy = 0.0;
+    for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+        size_t j = nl.index[k];
+        if (s->kind[j] == MPS2P_KIND_DUMMY || (mask && !mask[j]))
+            continue;
+        double dx = position[2 * j] - position[2 * i];
+        double dy = position[2 * j + 1] - position[2 * i + 1];
+        double r2 = dx * dx + dy * dy;
+        if (r2 >= re2 || r2 <= 0.0)
+            continue;
+        double f = (field[stride * j + offset] - reference) / r2 * kernel_weight(sqrt(r2), re);
+        gx += f * dx;
+        gy += f * dy;
+    }
+    out[0] = 2.0 / s->n0_density * gx;
+    out[1] = 2.0 / s->n0_density * gy;
+}
+
+void gradient_masked_at(const mps2p_solver *s, size_t i, const double *field, double reference,
+                        const unsigned char *mask, double out[2])
+{
+    gradient_core(s, i, field, 1, 0, reference, mask, out);
+}
+
+void gradient_with_ghosts_at(const mps2p_solver *s, size_t i, const double *pressure,
+                             double out[2])
+{
+    const double re = s->params.re_density * s->l0, re2 = re * re;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
+    const double *position = s->state.position;
+    const double hx = s->density[i] * s->params.gravity[0];
+    const double hy = s->density[i] * s->params.gravity[1];
+    double gx = 0.0, gy = 0.0;
+    for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+        size_t j = nl.index[k];
+        if (s->kind[j] == MPS2P_KIND_DUMMY)
+            continue;
+        double dx = position[2 * j] - position[2 * i];
+        double dy = position[2 * j + 1] - position[2 * i + 1];
+        double r2 = dx * dx + dy * dy;
+        if (r2 >= re2 || r2 <= 0.0)
+            continue;
+        double difference = is_hydrostatic_ghost(s, s->on_surface, j)
+                                 ? hx * dx + hy * dy
+                                 : pressure[j] - pressure[i];
+        double f = difference / r2 * kernel_weight(sqrt(r2), re);
+        gx += f * dx;
+        gy += f * dy;
+    }
+    out[0] = 2.0 / s->n0_density * gx;
+    out[1] = 2.0 / s->n0_density * gy;
+}
+
+int corrective_matrix_at(const mps2p_solver *s, size_t i, double inverse[3])
+{
+    const double re = s->params.re_density * s->l0, re2 = re * re;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
+    const double *position = s->state.position;
+    double xx = 0.0, xy = 0.0, yy = 0.0;
+    for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+        size_t j = nl.index[k];
+        if (s->kind[j] == MPS2P_KIND_DUMMY)
+            continue;
+        double dx = position[2 * j] - position[2 * i];
+        double dy = position[2 * j + 1] - position[2 * i + 1];
+        double r2 = dx * dx + dy * dy;
+        if (r2 >= re2 || r2 <= 0.0)
+            continue;
+        double f = kernel_weight(sqrt(r2), re) / r2;
+        xx += f * dx * dx;
+        xy += f * dx * dy;
+        yy += f * dy * dy;
+    }
+    const double scale = 2.0 / s->n0_density;
+    xx *= scale;
+    xy *= scale;
+    yy *= scale;
+    /* The identity (det 1) on a full lattice; a particle with neighbours on
+     * one side only has a near-singular one: leave it uncorrected rather than
+     * amplify noise. */
+    double det = xx * yy - xy * xy;
+    if (!(det >= CORRECTIVE_MIN_DETERMINANT))
+        return 0;
+    inverse[0] = yy / det;
+    inverse[1] = -xy / det;
+    inverse[2] = xx / det;
+    return 1;
+}
+
+void gradient_at_component(const mps2p_solver *s, size_t i, const double *field, int c,
+                           double out[2])
+{
+    gradient_core(s, i, field, 2, (size_t)c, field[2 * i + (size_t)c], NULL, out);
+}
+
+double minimum_around(const mps2p_solver *s, size_t i, const double *field)
+{
+    return minimum_masked_around(s, i, field, NULL);
+}
+
+double minimum_masked_around(const mps2p_solver *s, size_t i, const double *field,
+                             const unsigned char *mask)
+{
+    const double re = s->params.re_density * s->l0, re2 = re * re;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
+    const double *position = s->state.position;
+    double minimum = field[i];
+    for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+        size_t j = nl.index[k];
+        if (s->kind[j] == MPS2P_KIND_DUMMY || (mask && !mask[j]))
+            continue;
+        double dx = position[2 * j] - position[2 * i];
+        double dy = position[2 * j + 1] - position[2 * i + 1];
+        if (dx * dx + dy * dy < re2 && field[j] < minimum)
+            minimum = field[j];
+    }
+    return minimum;
+}
+
+void laplacian_at(const mps2p_solver *s, size_t i, const double *field, size_t components,
+                  double *out)
+{
+    laplacian_masked_at(s, i, field, components, NULL, out);
+}
+
+void laplacian_masked_at(const mps2p_solver *s, size_t i, const double *field,
+                         size_t components, const unsigned char *mask, double *out)
+{
+    const double re = s->params.re_laplacian * s->l0;
+    const neighbour_list *nl = &s->neighbours;
+    const double *position = s->state.position;
+    const double factor = 2.0 * 2 / (s->lambda * s->n0_laplacian);
+    for (size_t c = 0; c < components; c++)
+        out[c] = 0.0;
+    for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
+        size_t j = nl->index[k];
+        if (mask && !mask[j])
+            continue;
+        double dx = position[2 * j] - position[2 * i];
+        double dy = position[2 * j + 1] - position[2 * i + 1];
+        double w = kernel_weight(sqrt(dx * dx + dy * dy), re);
+        if (w == 0.0)
+            continue;
+        for (size_t c = 0; c < components; c++)
+            out[c] += (field[components * j + c] - field[components * i + c]) * w;
+    }
+    for (size_t c = 0; c < components; c++)
+        out[c] *= factor;
+}

@@ -1,0 +1,267 @@
+/* Pressure Poisson equation: assemble the sparse system and solve it.
+ *   -<lap p>_i + (rho_i kappa / dt^2) p_i = source_i (see source_term)
+ * over fluid and wall particles that are not free surface. Free-surface
+ * particles are Dirichlet (p = 0), dummy walls carry no pressure. The
+ * compressibility term kappa keeps the matrix positive definite even for a
+ * fluid cluster that touches no free surface. */
+#include "numerics/numerics.h"
+#include "core/core.h"
+#include "stages/stages.h"
+
+#include <limits.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int grow_matrix(sparse_matrix *m, int rows, size_t entries)
+{
+    if ((size_t)rows + 1 > m->row_capacity) {
+        int *grown = realloc(m->row_start, ((size_t)rows + 1) * sizeof *grown);
+        if (!grown)
+            return MPS2P_ERR_NOMEM;
+        m->row_start = grown;
+        m->row_capacity = (size_t)rows + 1;
+    }
+    if (entries > m->capacity) {
+        size_t capacity = entries + entries / 4 + 16;
+        int *column = realloc(m->column, capacity * sizeof *column);
+        if (column)
+            m->column = column;
+        double *value = realloc(m->value, capacity * sizeof *value);
+        if (value)
+            m->value = value;
+        if (!column || !value)
+            return MPS2P_ERR_NOMEM;
+        m->capacity = capacity;
+    }
+    return MPS2P_OK;
+}
+
+/* Participants: the system's mask when it has one, else every non-dummy. */
+static int takes_part(const mps2p_solver *s, const ppe_system *sys, size_t j)
+{
+    return sys->part ? sys->part[j] != 0 : s->kind[j] != MPS2P_KIND_DUMMY;
+}
+
+/* The PPE source, rho/dt^2 times a number-density deviation over n0:
+ *   density  gamma (n* - n0): Koshizuka and Oka, the whole deviation relaxed;
+ *   mixed    (n* - n^k) + gamma (n^k - n0): this step's change (the velocity
+ *            divergence, measured with the number density itself) in full,
+ *            the drift accumulated before it relaxed (after Tanaka and
+ *            Masunaga 2010);
+ *   ecs      (n* - n^k) + |e| (n^k - n0), e = (n^k - n0)/n0: as mixed, with
+ *            the drift's factor the error itself, after Khayyer and Gotoh's
+ *            error-compensating source (a simplified form, not theirs
+ *            exactly): noise-sized errors are hardly amplified by 1/dt^2. */
+static double source_term(const mps2p_solver *s, const ppe_system *sys, size_t i, double dt)
+{
+    const double n0 = s->n0_density, gamma = s->params.ppe_relaxation;
+    const double scale = sys->density[i] / (dt * dt) / n0;
+    const double n_star = sys->n_star[i];
+    if (s->params.ppe_source == PPE_SOURCE_DENSITY)
+        return scale * gamma * (n_star - n0);
+    const double n_start = sys->n_start[i]; /* allocated for these sources only */
+    if (s->params.ppe_source == PPE_SOURCE_MIXED)
+        return scale * ((n_star - n_start) + gamma * (n_start - n0));
+    return scale * ((n_star - n_start) + fabs(n_start - n0) / n0 * (n_start - n0));
+}
+
+/* The single-phase system: every fluid and wall particle, its own density. */
+static ppe_system single_phase_system(mps2p_solver *s)
+{
+    ppe_system sys = {NULL, s->on_surface, s->number_density, s->number_density_start,
+                      s->density, s->state.pressure, 0.0, NULL, 0.0, s->ppe_unknowns, 0, 0.0};
+    return sys;
+}
+
+int pressure_assemble(mps2p_solver *s, double dt)
+{
+    ppe_system sys = single_phase_system(s);
+    int status = pressure_assemble_system(s, dt, &sys);
+    s->ppe_unknowns = sys.unknowns;
+    s->ppe_iterations = 0;
+    s->ppe_residual = 0.0;
+    return status;
+}
+
+int pressure_solve(mps2p_solver *s, double dt)
+{
+    (void)dt;
+    ppe_system sys = single_phase_system(s);
+    int status = pressure_solve_system(s, &sys);
+    s->ppe_iterations = sys.iterations;
+    s->ppe_iterations_total += sys.iterations;
+    s->ppe_residual = sys.residual;
+    return status;
+}
+
+int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
+{
+    /* A window's step shorter than half the chosen dt gets the pressure of a
+     * step of half the chosen dt: the source (and the compressibility term)
+     * scale with 1/dt^2, and a tiny step would otherwise press the whole
+     * density error out in no time, with a pressure 1/dt^2 too large. */
+    dt = fmax(dt, s->ppe_min_dt);
+    double re = s->params.re_laplacian * s->l0;
+    double c = 2.0 * 2 / (s->lambda * s->n0_laplacian);
+    if (sys->re_in_l0 > 0.0) { /* a system of its own radius (gas_pressure.c) */
+        double n0, lambda;
+        lattice_constants(s->l0, sys->re_in_l0, &n0, &lambda);
+        re = sys->re_in_l0 * s->l0;
+        c = 2.0 * 2 / (lambda * n0);
+    }
+    const neighbour_list *nl = &s->neighbours;
+    const double *position = s->state.position;
+    double *pressure = sys->pressure;
+
+    /* Number the unknowns in particle order. */
+    long unknowns = 0;
+    for (size_t i = 0; i < s->count; i++)
+        s->unknown_of[i] = (takes_part(s, sys, i) && !sys->surface[i]) ? unknowns++ : -1;
+    sys->unknowns = (size_t)unknowns;
+    sys->iterations = 0;
+    sys->residual = 0.0;
+    if (unknowns == 0)
+        return MPS2P_OK;
+
+    if (unknowns >= INT_MAX)
+        return fail(s->error, MPS2P_ERR_NOMEM,
+                    "pressure matrix with %ld rows is beyond the int index range", unknowns);
+    /* pattern from the neighbour list: every unknown neighbour, zero beyond re */
+    const int whole_list = s->params.ppe_pattern == PPE_PATTERN_NEIGHBOUR_LIST;
+    if (grow_matrix(&s->matrix, (int)unknowns, 0) != MPS2P_OK)
+        return fail(s->error, MPS2P_ERR_NOMEM,
+                    "out of memory for the pressure matrix (%ld rows)", unknowns);
+    sparse_matrix *m = &s->matrix;
+
+    /* Count the pattern, a row per thread at a time: the diagonal plus unknown
+     * neighbours in range (or all of them, whole_list), into row_start[row +
+     * 1]; then its running sum. */
+    PARALLEL_FOR(s->params.threads, schedule(static),
+    for (size_t i = 0; i < s->count; i++) {
+        if (s->unknown_of[i] < 0)
+            continue;
+        size_t row_entries = 1;
+        for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
+            size_t j = nl->index[k];
+            if (s->unknown_of[j] < 0)
+                continue;
+            double dx = position[2 * j] - position[2 * i];
+            double dy = position[2 * j + 1] - position[2 * i + 1];
+            row_entries += whole_list || dx * dx + dy * dy < re * re;
+        }
+        /* a row holds at most the whole list's entries, so an int once the
+         * total is checked below; clamped until then */
+        m->row_start[s->unknown_of[i] + 1] = row_entries > (size_t)INT_MAX ? INT_MAX
+                                                                           : (int)row_entries;
+    });
+    size_t entries = 0;
+    m->row_start[0] = 0;
+    for (long row = 0; row < unknowns; row++) {
+        entries += (size_t)m->row_start[row + 1];
+        m->row_start[row + 1] = entries > (size_t)INT_MAX ? INT_MAX : (int)entries;
+    }
+    if (entries > (size_t)INT_MAX)
+        return fail(s->error, MPS2P_ERR_NOMEM,
+                    "pressure matrix with %zu entries is beyond the int index range", entries);
+    if (grow_matrix(&s->matrix, (int)unknowns, entries) != MPS2P_OK)
+        return fail(s->error, MPS2P_ERR_NOMEM,
+                    "out of memory for the pressure matrix (%zu entries)", entries);
+
+    /* Hydrostatic ghosts (option wall_ghosts; single phase): a dummy, or a
+     * wall on the free surface (a dry wall), seen from row i takes p_i +
+     * rho_i g . r_ij, so its Laplacian term w (p_j - p_i) is the known
+     * w rho_i g . r_ij: it goes to the right-hand side and the matrix stays
+     * symmetric. Koshizuka and Oka's dummies are left out of the Laplacian, and
+     * a dry wall is p = 0: both bend the hydrostatic field near walls, which
+     * still water measures (docs/validation.md). */
+    const int ghosts = s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC && !sys->part;
+    const double gx = s->params.gravity[0], gy = s->params.gravity[1];
+    /* Fill: each row into its own slots, its entries in neighbour order. */
+    m->rows = (int)unknowns;
+    PARALLEL_FOR(s->params.threads, schedule(static),
+    for (size_t i = 0; i < s->count; i++) {
+        long row = s->unknown_of[i];
+        if (row < 0)
+            continue;
+        int next = m->row_start[row];
+        int diagonal_at = -1;
+        double dirichlet_sum = 0.0, ghost_sum = 0.0;
+        double diagonal = sys->density[i] * s->params.compressibility / (dt * dt);
+        for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
+            size_t j = nl->index[k];
+            const int ghost = ghosts && is_hydrostatic_ghost(s, sys->surface, j);
+            if (!ghost && !takes_part(s, sys, j))
+                continue;
+            double dx = position[2 * j] - position[2 * i];
+            double dy = position[2 * j + 1] - position[2 * i + 1];
+            int in_range = dx * dx + dy * dy < re * re;
+            if (ghost) {
+                if (in_range)
+                    ghost_sum += c * kernel_weight(sqrt(dx * dx + dy * dy), re) *
+                                 sys->density[i] * (gx * dx + gy * dy);
+                continue;
+            }
+            if (!in_range && !(whole_list && s->unknown_of[j] >= 0))
+                continue;
+            double w = in_range ? kernel_weight(sqrt(dx * dx + dy * dy), re) : 0.0;
+            diagonal += c * w;
+            if (s->unknown_of[j] < 0) {
+                if (sys->dirichlet)
+                    dirichlet_sum += c * w * sys->dirichlet[j];
+                continue;
+            }
+            if (diagonal_at < 0 && j > i)
+                diagonal_at = next++; /* keep columns sorted */
+            m->column[next] = (int)s->unknown_of[j];
+            m->value[next] = -c * w;
+            next++;
+        }
+        if (diagonal_at < 0)
+            diagonal_at = next++;
+        m->column[diagonal_at] = (int)row;
+        m->value[diagonal_at] = diagonal;
+        s->rhs[row] = source_term(s, sys, i, dt);
+        if (sys->dirichlet) /* only then: adding 0 would turn a -0 source into +0 */
+            s->rhs[row] += dirichlet_sum;
+        if (ghosts)
+            s->rhs[row] += ghost_sum;
+        s->solution[row] = pressure[i]; /* warm start for CG */
+    });
+    return MPS2P_OK;
+}
+
+int pressure_solve_system(mps2p_solver *s, ppe_system *sys)
+{
+    double *pressure = sys->pressure;
+    if (sys->unknowns == 0) {
+        memset(pressure, 0, s->count * sizeof *pressure);
+        return MPS2P_OK;
+    }
+    const sparse_matrix *m = &s->matrix;
+    const size_t unknowns = sys->unknowns;
+    size_t max_iterations = s->params.cg_max_iterations > 0.0
+                                ? (size_t)s->params.cg_max_iterations
+                                : 10 * unknowns + 100;
+    char message[ERROR_MESSAGE_SIZE];
+    size_t iterations = 0;
+    double residual = 0.0;
+    double tolerance = sys->tolerance > 0.0 ? sys->tolerance : s->params.cg_tolerance;
+    int status = linear_solver_solve(s->linear, m, s->rhs, s->solution, tolerance,
+                                     max_iterations, &iterations, &residual, message,
+                                     sizeof message);
+    sys->iterations = iterations;
+    sys->residual = residual;
+    if (status != MPS2P_OK)
+        return fail(s->error, status, "step %llu at t = %.6g s: pressure solve failed: %s",
+                    (unsigned long long)s->steps + 1, s->time, message);
+
+    int clamp = s->params.clamp_negative_pressure != 0.0;
+    PARALLEL_FOR(s->params.threads, schedule(static),
+    for (size_t i = 0; i < s->count; i++) {
+        double p = s->unknown_of[i] >= 0 ? s->solution[s->unknown_of[i]]
+                   : (sys->dirichlet && takes_part(s, sys, i)) ? sys->dirichlet[i] : 0.0;
+        pressure[i] = (clamp && p < 0.0) ? 0.0 : p;
+    });
+    return MPS2P_OK;
+}

@@ -1,0 +1,101 @@
+/* The single-phase stages of a step, a file each, run by the plan as
+ * int (*)(mps2p_solver *, double dt) (solver/plan.c), and what they share
+ * with the two phases: the MPS operators at a particle (operators.c), the
+ * pressure Poisson system (pressure.c), the time step (timestep.c) and
+ * where a divergence was found (divergence.c). They read no other part's
+ * state: what the two phases change in them comes through the solver's
+ * viscosity_mask and collision_share. */
+#ifndef MPS2P_STAGES_H
+#define MPS2P_STAGES_H
+
+#include "core/core.h"
+
+/* ---- MPS operators at particle i (operators.c) ---- */
+
+/* A dummy, or a wall that is free surface (surface: the PPE's flags), is a
+ * hydrostatic ghost under option wall_ghosts = hydrostatic (pressure.c). */
+static inline int is_hydrostatic_ghost(const mps2p_solver *s, const unsigned char *surface,
+                                       size_t j)
+{
+    return s->kind[j] == MPS2P_KIND_DUMMY || (s->kind[j] == MPS2P_KIND_WALL && surface[j]);
+}
+/* The gradient with p_i as reference over non-dummy neighbours, where a wall
+ * on the free surface takes the ghost value p_i + rho_i g . r_ij. */
+void gradient_with_ghosts_at(const mps2p_solver *s, size_t i, const double *pressure,
+                             double out[2]);
+/* (d / n0) sum_j (f_j - reference) r_ij w / |r_ij|^2 over non-dummy neighbours. */
+void gradient_at(const mps2p_solver *s, size_t i, const double *field, double reference,
+                 double out[2]);
+/* min(f_i, min_j f_j) over non-dummy neighbours within the density radius. */
+double minimum_around(const mps2p_solver *s, size_t i, const double *field);
+/* gradient_at of component c of an interleaved 2-vector field, f_i as reference. */
+void gradient_at_component(const mps2p_solver *s, size_t i, const double *field, int c,
+                           double out[2]);
+/* The same, over the neighbours j with mask[j] != 0 only (NULL = as above):
+ * each phase of a two-phase step sees only its own particles. */
+void gradient_masked_at(const mps2p_solver *s, size_t i, const double *field, double reference,
+                        const unsigned char *mask, double out[2]);
+double minimum_masked_around(const mps2p_solver *s, size_t i, const double *field,
+                             const unsigned char *mask);
+void laplacian_masked_at(const mps2p_solver *s, size_t i, const double *field,
+                         size_t components, const unsigned char *mask, double *out);
+/* Inverse of (d/n0) sum_j w r_ij r_ij^T / |r_ij|^2 over fluid and wall
+ * neighbours, as (xx, xy, yy); returns 0 when its determinant is below
+ * CORRECTIVE_MIN_DETERMINANT (one-sided neighbourhoods), 1 otherwise. */
+#define CORRECTIVE_MIN_DETERMINANT 0.1
+int corrective_matrix_at(const mps2p_solver *s, size_t i, double inverse[3]);
+/* (2d / (lambda n0)) sum_j (f_j - f_i) w, per component of an interleaved field. */
+void laplacian_at(const mps2p_solver *s, size_t i, const double *field, size_t components,
+                  double *out);
+
+/* ---- the time step (timestep.c) ---- */
+
+double timestep_choose(const mps2p_solver *s);
+/* Which bound sets timestep_choose's dt, in words, for messages. */
+void timestep_explain(const mps2p_solver *s, char *out, size_t size);
+
+/* ---- the stages, in the order of a step ---- */
+
+int neighbours_refresh(mps2p_solver *s, double dt);      /* neighbour_update.c */
+/* n into out (number_density.c); the stages: n^k at the step's start, n* at r* */
+void number_density_compute(mps2p_solver *s, double *out);
+int number_density_start(mps2p_solver *s, double dt);
+int viscosity_apply(mps2p_solver *s, double dt);         /* viscosity.c */
+int turbulence_apply(mps2p_solver *s, double dt);        /* turbulence.c */
+int gravity_apply(mps2p_solver *s, double dt);           /* gravity.c */
+int excitation_apply(mps2p_solver *s, double dt);        /* excitation.c */
+int advect(mps2p_solver *s, double dt);                  /* advection.c */
+int collision_apply(mps2p_solver *s, double dt);         /* collision.c */
+int number_density_star(mps2p_solver *s, double dt);
+int neighbour_count_compute(mps2p_solver *s, double dt); /* free_surface.c */
+int free_surface_detect(mps2p_solver *s, double dt);     /* free_surface.c */
+int pressure_assemble(mps2p_solver *s, double dt);       /* pressure.c */
+int pressure_solve(mps2p_solver *s, double dt);          /* pressure.c */
+int pressure_correct(mps2p_solver *s, double dt);        /* correction.c */
+int divergence_check(mps2p_solver *s, double dt);        /* divergence.c */
+/* Remembers where a divergence was found (statistic diverged_particle);
+ * returns status. */
+int diverged_at(mps2p_solver *s, size_t i, int status);  /* divergence.c */
+
+/* ---- the pressure Poisson system (pressure.c) ---- */
+
+/* One PPE over a subset of the particles (pressure.c), for the two phases'
+ * solves: part marks the participants (NULL = every non-dummy particle),
+ * surface the Dirichlet ones; n_star, n_start and density enter the source
+ * (and density the diagonal); pressure holds the warm start on entry and
+ * every particle's result on exit (0 for non-participants). */
+typedef struct ppe_system {
+    const unsigned char *part;
+    const unsigned char *surface;
+    const double *n_star, *n_start, *density;
+    double *pressure;
+    double tolerance;           /* CG tolerance; 0 = cg_tolerance */
+    const double *dirichlet;    /* values of participants that are not unknowns; NULL = 0 */
+    double re_in_l0;            /* Laplacian radius of this system; 0 = re_laplacian */
+    size_t unknowns, iterations;
+    double residual;
+} ppe_system;
+int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys);
+int pressure_solve_system(mps2p_solver *s, ppe_system *sys);
+
+#endif

@@ -1,0 +1,213 @@
+/* The paper's improved model (docs/method.md section 3): the 8-sector scan that
+ * sets delta_al per light particle, and the reaction of a triggered light
+ * particle on the liquid.
+ *
+ * Scan (eq. 11-15): circle of radius 1.2 re (re = re_density l0) around light
+ * particle i; theta measured counter-clockwise from (1, -1)/sqrt 2; sector a
+ * holds (a-1) pi/4 <= theta < a pi/4. Heavy particles in a sector give its
+ * representative velocity: max u_x in sectors 1, 2, 5, 6, max u_y in 3, 4, 7,
+ * 8. delta_al = 1 when, for some a in 1..4, sectors a and a+4 both hold heavy
+ * particles and u_a < u_{a+4}. Walls and dummies count as heavy particles at
+ * rest when sector_scan_walls = 1 (the default: the gas is pinched against
+ * walls at impact, which a liquid-only scan misses). "Enclosed": heavy
+ * particles in all 8 sectors. The scan is a stage of effect two_phase (its
+ * counts describe the conventional model's squeeze too).
+ *
+ * Join (stage interface_join, effect interface_reaction: two_step_improved
+ * only): a light particle reacts when triggered, or enclosed if
+ * join_enclosed = 1, or, with join_hold, when it reacted in the step before
+ * and is still inside the liquid.
+ *
+ * Reaction (option interface_reaction), the discrete form of delta_al
+ * (-grad p)_a in eq. (5), which the paper leaves open:
+ *   volume  the particle joins the liquid PPE as liquid volume (counts in the
+ *           liquid's number density, an unknown with the liquid's density in
+ *           its source: the liquid cannot close in on it), takes the liquid
+ *           pressure at its place (pressure continuity) and is moved by
+ *           -grad p_l / rho_eff with the added-mass density (correction.c), which
+ *           gives it buoyancy; for the gas solve it is a wall;
+ *   wall    joins the liquid PPE in the same way, but stays moved by its gas
+ *           pressure (a moving wall for the liquid; no buoyancy);
+ *   pair    stays out of the liquid PPE; each liquid neighbour j receives the
+ *           opposite of the pair force particle i got from j in the gas
+ *           gradient (momentum-conserving);
+ *   push    stays out; the particle's gas pressure pushes each liquid
+ *           neighbour away with the liquid's density (eq. 5 literally). */
+#include "numerics/numerics.h"
+#include "core/core.h"
+#include "stages/stages.h"
+#include "two_phase/two_phase.h"
+
+#include <math.h>
+
+#define PI 3.14159265358979323846
+
+int interface_scan(mps2p_solver *s, double dt)
+{
+    (void)dt;
+    two_phase *tp = s->phases;
+    const double radius = 1.2 * s->params.re_density * s->l0, r2max = radius * radius;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, radius);
+    const double *r = s->state.position, *u = s->state.velocity;
+    const int walls = s->params.sector_scan_walls != 0.0;
+    const double quarter = PI / 4.0;
+    size_t triggered = 0, enclosed = 0;
+    for (size_t i = 0; i < s->count; i++) {
+        tp->triggered[i] = tp->enclosed[i] = 0;
+        if (!tp->light[i])
+            continue;
+        int occupied[8] = {0};
+        double rep[8];
+        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+            size_t j = nl.index[k];
+            double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
+            double d2 = dx * dx + dy * dy;
+            int heavy = s->kind[j] == MPS2P_KIND_FLUID ? !tp->light[j] : walls;
+            if (!heavy)
+                continue;
+            if (d2 > r2max || d2 <= 0.0)
+                continue;
+            double theta = atan2(dy, dx) + quarter;
+            if (theta < 0.0)
+                theta += 2.0 * PI;
+            int a = (int)(theta / quarter);
+            if (a > 7)
+                a = 7;
+            /* sectors 1, 2, 5, 6 (index 0, 1, 4, 5): horizontal velocity */
+            double v = (a == 0 || a == 1 || a == 4 || a == 5) ? u[2 * j] : u[2 * j + 1];
+            if (!occupied[a] || v > rep[a])
+                rep[a] = v;
+            occupied[a] = 1;
+        }
+        int all = 1, trigger = 0;
+        for (int a = 0; a < 8; a++)
+            all &= occupied[a];
+        for (int a = 0; a < 4; a++)
+            if (occupied[a] && occupied[a + 4] && rep[a] < rep[a + 4])
+                trigger = 1;
+        tp->triggered[i] = (unsigned char)trigger;
+        tp->enclosed[i] = (unsigned char)all;
+        triggered += (size_t)trigger;
+        enclosed += (size_t)all;
+    }
+    tp->triggered_count = triggered;
+    tp->enclosed_count = enclosed;
+    return MPS2P_OK;
+}
+
+int interface_join(mps2p_solver *s, double dt)
+{
+    (void)dt;
+    two_phase *tp = s->phases;
+    const int hold_on = s->params.join_hold != 0.0;
+    const int enclosed_on = s->params.join_enclosed != 0.0;
+    size_t joined = 0;
+    for (size_t i = 0; i < s->count; i++) {
+        tp->was_joined[i] = tp->joined[i];
+        tp->joined[i] = 0;
+        if (!tp->light[i])
+            continue;
+        /* Hold: a particle that joined stays joined while it is inside the
+         * liquid, so that it does not flicker between the two solves. */
+        int hold = tp->was_joined[i] && hold_on && more_liquid_than_light_neighbours(s, i);
+        tp->joined[i] =
+            (unsigned char)(tp->triggered[i] || hold || (tp->enclosed[i] && enclosed_on));
+        joined += tp->joined[i];
+    }
+    tp->joined_count = joined;
+    return MPS2P_OK;
+}
+
+void interface_reaction_apply(mps2p_solver *s, double dt, double *change)
+{
+    two_phase *tp = s->phases;
+    const int kind = s->params.interface_reaction;
+    if (kind != REACTION_PAIR && kind != REACTION_PUSH && kind != REACTION_CONTINUITY)
+        return;
+    const double re = s->params.re_density * s->l0, re2 = re * re;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
+    const double *r = s->state.position, *p = tp->gas_pressure;
+    const double factor = 2.0 / s->n0_density;
+    for (size_t i = 0; i < s->count; i++) {
+        if (!tp->light[i] || !tp->joined[i])
+            continue;
+        double reference = minimum_masked_around(s, i, p, tp->gas_part);
+        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+            size_t j = nl.index[k];
+            if (s->kind[j] != MPS2P_KIND_FLUID || tp->light[j])
+                continue;
+            double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
+            double d2 = dx * dx + dy * dy;
+            if (d2 >= re2 || d2 <= 0.0)
+                continue;
+            double w = kernel_weight(sqrt(d2), re) / d2;
+            /* pair: j gets minus the momentum i got from the pair (p_j - p^_i);
+             * push: j is pushed away by i's gas pressure. */
+            double difference = kind == REACTION_PUSH ? fmax(p[i], 0.0) : p[j] - reference;
+            /* continuity: i moved with its bounded density, so the pair's
+             * momentum is rho_i times i's change; here the gas density (the
+             * mass the particle really has) is used, as in pair. */
+            double dv = dt * tp->light_density / s->density[j] *
+                        factor * difference * w / tp->light_density;
+            change[2 * j] += dv * dx;
+            change[2 * j + 1] += dv * dy;
+        }
+    }
+}
+
+int interface_drift_wanted(const mps2p_solver *s)
+{
+    return s->params.interface_reaction == REACTION_DRIFT;
+}
+
+/* Drift reaction, after the correction: a drift-flux closure. A joined light
+ * particle is a bubble carried by the liquid: its velocity relaxes over
+ * bubble_relaxation_time tau toward the kernel-weighted mean velocity of the
+ * liquid around it plus the terminal rise velocity u_t against gravity
+ * (about 0.2-0.25 m/s for 5-20 mm air bubbles in water, Clift, Grace and
+ * Weber 1978). The bubble's weight and buoyancy are in u_t, so the gravity
+ * this step's explicit stage gave it is taken back first: left in, it takes
+ * g tau (0.2 m/s for tau = 0.02 s) off the slip and the bubble does not rise
+ * (measured: docs/two-phase.md). Its position follows the correction's
+ * convention, r += dt du. Without liquid neighbours nothing is changed. */
+int interface_drift_apply(mps2p_solver *s, double dt)
+{
+    two_phase *tp = s->phases;
+    const double re = s->params.re_density * s->l0, re2 = re * re;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
+    double *r = s->state.position, *u = s->state.velocity;
+    const double *gravity = s->params.gravity;
+    double g = hypot(gravity[0], gravity[1]);
+    double up[2] = {g > 0.0 ? -gravity[0] / g : 0.0, g > 0.0 ? -gravity[1] / g : 1.0};
+    const int gravity_on = s->effect_active[EFFECT_GRAVITY];
+    const double rise = s->params.bubble_rise_velocity;
+    const double relax = 1.0 - exp(-dt / s->params.bubble_relaxation_time);
+    for (size_t i = 0; i < s->count; i++) {
+        if (!tp->light[i] || !(tp->joined[i] || tp->join_weight[i] > 0.0))
+            continue;
+        double sw = 0.0, mean[2] = {0.0, 0.0};
+        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+            size_t j = nl.index[k];
+            if (s->kind[j] != MPS2P_KIND_FLUID || tp->light[j])
+                continue;
+            double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
+            double d2 = dx * dx + dy * dy;
+            if (d2 >= re2 || d2 <= 0.0)
+                continue;
+            double w = kernel_weight(sqrt(d2), re);
+            sw += w;
+            mean[0] += w * u[2 * j];
+            mean[1] += w * u[2 * j + 1];
+        }
+        if (!(sw > 0.0))
+            continue;
+        for (int d = 0; d < 2; d++) {
+            double du = gravity_on && s->params.drift_without_gravity != 0.0 ? -dt * gravity[d] : 0.0;
+            double target = mean[d] / sw + rise * up[d];
+            du += relax * (target - (u[2 * i + d] + du));
+            u[2 * i + d] += du;
+            r[2 * i + d] += dt * du;
+        }
+    }
+    return MPS2P_OK;
+}

@@ -1,0 +1,104 @@
+/* The liquid's side of the two-step pressure (docs/method.md section 2):
+ * stage phases_start (the liquid's own number density n^k) and stage
+ * liquid_pressure (the liquid PPE, light particles ignored unless joined). */
+#include "numerics/numerics.h"
+#include "core/core.h"
+#include "stages/stages.h"
+#include "two_phase/two_phase.h"
+
+#include <math.h>
+#include <string.h>
+
+
+
+
+/* Number density as the liquid sees it: light particles count only when
+ * they have joined the liquid solve. */
+static void heavy_number_density(const mps2p_solver *s, double *out)
+{
+    const two_phase *tp = s->phases;
+    const double re = s->params.re_density * s->l0;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
+    const double *position = s->state.position;
+    for (size_t i = 0; i < s->count; i++) {
+        double n = 0.0;
+        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+            size_t j = nl.index[k];
+            if (!tp->heavy_mask[j])
+                continue;
+            double dx = position[2 * j] - position[2 * i];
+            double dy = position[2 * j + 1] - position[2 * i + 1];
+            double w = kernel_weight(sqrt(dx * dx + dy * dy), re);
+            n += tp->light[j] ? tp->join_weight[j] * w : w;
+        }
+        out[i] = n;
+    }
+}
+
+int phases_step_start(mps2p_solver *s, double dt)
+{
+    (void)dt;
+    two_phase *tp = s->phases;
+    heavy_number_density(s, tp->heavy_n_start);
+    if (!tp->have_initial) {
+        memcpy(tp->heavy_n_initial, tp->heavy_n_start, s->count * sizeof(double));
+        tp->have_initial = 1;
+    }
+    return MPS2P_OK;
+}
+
+
+static int joins_liquid_solve(const mps2p_solver *s, size_t i)
+{
+    const two_phase *tp = s->phases;
+    return tp->joined[i] && (s->params.interface_reaction == REACTION_VOLUME ||
+                             s->params.interface_reaction == REACTION_WALL ||
+                             s->params.interface_reaction == REACTION_DRIFT);
+}
+
+/* The liquid PPE: light particles ignored unless joined, liquid touching the
+ * gas is free surface. Requires number_density (all particles) at r* and the
+ * sector scan (and the join, with the interface reaction). */
+int liquid_pressure_solve(mps2p_solver *s, double dt)
+{
+    two_phase *tp = s->phases;
+    const double threshold = s->params.beta * s->n0_density;
+    /* A joining light particle enters the liquid's number density with a
+     * weight ramped over join_ramp_time (0 = at once), and leaves it the
+     * same way: it usually joins while overlapping liquid particles, and a
+     * sudden full weight is a pressure spike. */
+    const double ramp = s->params.join_ramp_time > 0.0 ? dt / s->params.join_ramp_time : 1.0;
+    for (size_t i = 0; i < s->count; i++) {
+        if (!tp->light[i])
+            continue;
+        double target = joins_liquid_solve(s, i) ? 1.0 : 0.0;
+        tp->join_weight[i] = target > tp->join_weight[i]
+                                 ? fmin(target, tp->join_weight[i] + ramp)
+                                 : fmax(target, tp->join_weight[i] - ramp);
+    }
+    for (size_t i = 0; i < s->count; i++) {
+        int joined = tp->light[i] && tp->join_weight[i] > 0.0;
+        tp->heavy_mask[i] = !tp->light[i] || joined;
+        tp->heavy_part[i] = tp->heavy_mask[i] && s->kind[i] != MPS2P_KIND_DUMMY;
+        /* A joined light particle stands for liquid volume in the liquid's
+         * incompressibility: its source takes the liquid's density. */
+        tp->heavy_rho[i] = tp->light[i] ? tp->heavy_density : s->density[i];
+    }
+    heavy_number_density(s, tp->heavy_n);
+    size_t surface = 0;
+    for (size_t i = 0; i < s->count; i++) {
+        tp->heavy_surface[i] = tp->heavy_part[i] && tp->heavy_n[i] < threshold;
+        surface += tp->heavy_surface[i];
+    }
+    s->surface_particles = surface;
+    ppe_system heavy = {tp->heavy_part, tp->heavy_surface, tp->heavy_n, tp->heavy_n_start,
+                        tp->heavy_rho, tp->heavy_pressure, 0.0, NULL, 0.0, 0, 0, 0.0};
+    int status = pressure_assemble_system(s, dt, &heavy);
+    if (status == MPS2P_OK)
+        status = pressure_solve_system(s, &heavy);
+    s->ppe_unknowns = tp->heavy_unknowns = heavy.unknowns;
+    s->ppe_iterations = tp->heavy_iterations = heavy.iterations;
+    s->ppe_iterations_total += heavy.iterations;
+    s->ppe_residual = heavy.residual;
+    return status;
+}

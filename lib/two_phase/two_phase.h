@@ -1,0 +1,98 @@
+/* The two phases (docs/method.md sections 2-3), behind effect two_phase:
+ * their state and its table (state.c), their stages (liquid_pressure.c,
+ * interface_reaction.c, gas_pressure.c, correction.c, divergence.c), their
+ * statistics (stats.c) and what they change in two single-phase stages
+ * (collision_rule.c; the viscosity mask is set in state.c). The forms of
+ * the interface reaction (option interface_reaction) live here only. */
+#ifndef MPS2P_TWO_PHASE_H
+#define MPS2P_TWO_PHASE_H
+
+#include "stages/stages.h"
+
+/* State of the two-step pressure. Allocated by the plan only when effect
+ * two_phase is on; a single-phase solver never holds one. */
+typedef struct two_phase {
+    struct two_phase *before_step; /* the carried state at the step's start, for rollback */
+    int improved;               /* effect interface_reaction is on */
+    double heavy_density;       /* of the heaviest fluid */
+    double light_density;       /* of the heaviest light fluid */
+    unsigned char *light;       /* per particle: fluid of a light phase */
+    unsigned char *triggered;   /* delta_al = 1 in the last step (eq. 15) */
+    unsigned char *enclosed;    /* heavy particles in all 8 sectors */
+    unsigned char *joined;      /* light particle taking part in the liquid solve */
+    unsigned char *was_joined;  /* joined in the step before */
+    double *join_weight;        /* weight in the liquid's number density, ramped 0..1 */
+    unsigned char *heavy_part;  /* participants of the liquid PPE */
+    unsigned char *heavy_mask;  /* neighbours the liquid sees: not light, or joined */
+    unsigned char *gas_part;    /* participants of the gas PPE */
+    unsigned char *heavy_surface, *gas_surface;
+    double *heavy_n, *heavy_n_start; /* number density the liquid sees */
+    double *heavy_pressure, *gas_pressure;
+    double *gas_dirichlet;      /* liquid pressure on liquid particles (continuity) */
+    double *gas_n;              /* number density the gas solve sees */
+    double *heavy_n_initial;    /* the liquid's number density at the first step */
+    int have_initial;
+    double *heavy_rho, *gas_rho;     /* densities of the two PPEs' sources */
+    double gas_pressure_limit;
+    /* diagnostics of the last step */
+    size_t triggered_count, enclosed_count, joined_count, capped_count;
+    size_t heavy_unknowns, heavy_iterations, gas_unknowns, gas_iterations;
+    double gas_pressure_max;
+} two_phase;
+
+
+/* ---- for the solver and checkpoints ---- */
+
+/* Allocates s->phases (the plan, when effect two_phase is on) and sets the
+ * solver's viscosity_mask and collision_share. */
+int phases_init(mps2p_solver *s);
+void phases_free(struct two_phase *tp);
+size_t phases_memory_bytes(const mps2p_solver *s);
+/* What of s->phases is saved, checkpointed and rolled back, row by row
+ * (state.c says why each member, and why not the others). */
+extern const field_table two_phase_fields;
+/* A struct two_phase holding only the rows of s->phases with any flag of
+ * with, the other arrays NULL; NULL when out of memory. Freed with
+ * phases_free. */
+two_phase *phases_copy_carried(const mps2p_solver *s, unsigned with);
+/* Puts from's rows with any flag of with into s->phases, then rebuilds
+ * heavy_mask. */
+void phases_put_carried(mps2p_solver *s, const two_phase *from, unsigned with);
+/* Into s->phases->before_step at a step's start; put back when it fails. */
+void phases_save_before_step(mps2p_solver *s);
+/* heavy_mask from light and join_weight, as the last step left it. */
+void phases_carried_rebuild(mps2p_solver *s);
+/* 0 when the carried members of s->phases are in range (a loaded file's),
+ * else -1 with the reason in why. */
+int phases_carried_check(const mps2p_solver *s, char *why, size_t size);
+/* The statistics (stats.c), listed after the solver's. */
+extern const stat_entry two_phase_stats[];
+extern const size_t two_phase_stat_count;
+
+/* The stages, in the order of a step. */
+int phases_step_start(mps2p_solver *s, double dt);     /* liquid_pressure.c: its n^k */
+int interface_scan(mps2p_solver *s, double dt);        /* interface_reaction.c */
+int interface_join(mps2p_solver *s, double dt);        /* interface_reaction.c */
+int liquid_pressure_solve(mps2p_solver *s, double dt); /* liquid_pressure.c */
+/* The gas PPE, then the state's pressure per phase (phases_pressure_combine). */
+int gas_pressure_solve(mps2p_solver *s, double dt);    /* gas_pressure.c */
+int phases_correct(mps2p_solver *s, double dt);        /* correction.c: per phase, plus reaction */
+/* Stage interface_drift is in the step with the drift form only. */
+int interface_drift_wanted(const mps2p_solver *s);     /* interface_reaction.c */
+int interface_drift_apply(mps2p_solver *s, double dt); /* interface_reaction.c */
+int phases_divergence_check(mps2p_solver *s, double dt); /* divergence.c */
+
+/* ---- within the part ---- */
+
+/* The share of a collision's impulse between phases (collision_rule.c). */
+double phases_collision_share(const mps2p_solver *s, size_t i, size_t j);
+void phases_pressure_combine(mps2p_solver *s);         /* gas_pressure.c */
+/* A light particle moved by the liquid's pressure (correction.c). */
+int moves_with_liquid(const mps2p_solver *s, size_t i);
+/* The reaction of the forms pair, push and continuity on the correction. */
+void interface_reaction_apply(mps2p_solver *s, double dt, double *change);
+size_t gas_in_liquid_count(const mps2p_solver *s);     /* gas_in_liquid.c */
+/* A light particle with more heavy-fluid than light-fluid neighbours within re. */
+int more_liquid_than_light_neighbours(const mps2p_solver *s, size_t i);
+
+#endif
