@@ -77,6 +77,9 @@ static const param_entry table[] = {
      "a fluid lighter than this fraction of the heaviest is light (two-phase)"},
     {"sector_scan_walls", FIELD(sector_scan_walls), 1.0, 0.0, 1.0,
      "1 = wall particles count as heavy (velocity 0) in the 8-sector scan"},
+    {"trigger_speed", FIELD(trigger_speed), 0.05, 0.0, 100.0,
+     "the 8-sector scan triggers when opposite sectors close faster than trigger_speed "
+     "sqrt(|g| l0); 0 = the paper's u_a < u_{a+4}"},
     {"join_enclosed", FIELD(join_enclosed), 1.0, 0.0, 1.0,
      "1 = light particles with heavy ones in all 8 sectors react as triggered ones"},
     {"bubble_added_mass", FIELD(bubble_added_mass), 1.0, 0.0, 1e6,

@@ -7,7 +7,11 @@
  * holds (a-1) pi/4 <= theta < a pi/4. Heavy particles in a sector give its
  * representative velocity: max u_x in sectors 1, 2, 5, 6, max u_y in 3, 4, 7,
  * 8. delta_al = 1 when, for some a in 1..4, sectors a and a+4 both hold heavy
- * particles and u_a < u_{a+4}. Walls and dummies count as heavy particles at
+ * particles and u_a < u_{a+4}, here u_a + trigger_speed sqrt(|g| l0) <
+ * u_{a+4}: the paper's strict inequality fires on the velocity noise of
+ * liquid at rest (in still water under air, about half of the air's bottom
+ * row every step; docs/two-phase.md), and the threshold keeps it to
+ * closing liquid. Walls and dummies count as heavy particles at
  * rest when sector_scan_walls = 1 (the default: the gas is pinched against
  * walls at impact, which a liquid-only scan misses). "Enclosed": heavy
  * particles in all 8 sectors. The scan is a stage of effect two_phase (its
@@ -51,6 +55,8 @@ int interface_scan(mps2p_solver *s, double dt)
     const double *r = s->state.position, *u = s->state.velocity;
     const int walls = s->params.sector_scan_walls != 0.0;
     const double quarter = PI / 4.0;
+    const double closing = s->params.trigger_speed *
+                           sqrt(hypot(s->params.gravity[0], s->params.gravity[1]) * s->l0);
     size_t triggered = 0, enclosed = 0;
     for (size_t i = 0; i < s->count; i++) {
         tp->triggered[i] = tp->enclosed[i] = 0;
@@ -83,7 +89,7 @@ int interface_scan(mps2p_solver *s, double dt)
         for (int a = 0; a < 8; a++)
             all &= occupied[a];
         for (int a = 0; a < 4; a++)
-            if (occupied[a] && occupied[a + 4] && rep[a] < rep[a + 4])
+            if (occupied[a] && occupied[a + 4] && rep[a] + closing < rep[a + 4])
                 trigger = 1;
         tp->triggered[i] = (unsigned char)trigger;
         tp->enclosed[i] = (unsigned char)all;

@@ -91,8 +91,15 @@ int liquid_pressure_solve(mps2p_solver *s, double dt)
         surface += tp->heavy_surface[i];
     }
     s->surface_particles = surface;
-    ppe_system heavy = {tp->heavy_part, tp->heavy_surface, tp->heavy_n, tp->heavy_n_start,
-                        tp->heavy_rho, tp->heavy_pressure, 0.0, NULL, 0.0, 0, 0, 0.0};
+    /* the liquid's walls and dummies as hydrostatic ghosts, as in one phase */
+    ppe_system heavy = {.part = tp->heavy_part,
+                        .surface = tp->heavy_surface,
+                        .n_star = tp->heavy_n,
+                        .n_start = tp->heavy_n_start,
+                        .density = tp->heavy_rho,
+                        .pressure = tp->heavy_pressure,
+                        .hydrostatic_ghosts =
+                            s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC};
     int status = pressure_assemble_system(s, dt, &heavy);
     if (status == MPS2P_OK)
         status = pressure_solve_system(s, &heavy);
