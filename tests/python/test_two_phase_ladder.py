@@ -32,3 +32,18 @@ def test_droplet_falls_through_air_at_g():
     assert m["droplet_particles"] == 9, m
     assert m["fitted_until"] > 0.2, m  # fell most of the 0.3 m
     assert abs(m["relative_error"]) < 0.05, m
+
+
+@pytest.mark.parametrize("name", ["bubble_rise_4x4", "bubble_rise_8x8"])
+def test_bubble_rises_out(name):
+    """A square air bubble released 0.05 m above the floor of 0.3 m of
+    water: every particle of it out of the water within 2 s and none back
+    in by then; its rise while whole within a factor of two of
+    0.5 sqrt(g R); no fluid particle leaves the tank; the surface flat
+    again (every column's top within 1.5 l0 of their mean) at 2 s."""
+    m = ladder.bubble_rise(name, until=2.0)
+    assert m["status"] == "ran", m
+    assert m["all_out_at"] is not None and m["left_in_water"] == 0, m
+    assert 0.5 < m["rise_ratio"] < 2.0, m
+    assert m["most_outside_tank"] == 0, m
+    assert m["surface_deviation_at_end"] < 1.5, m

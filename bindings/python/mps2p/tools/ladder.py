@@ -58,6 +58,17 @@ def below_surface(positions, liquid, which, l0):
     return sum(1 for i in which if positions[i, 1] < tops.get(columns[i], -math.inf) - 0.5 * l0)
 
 
+def outside_tank(sf, positions, fluid):
+    """Fluid particles outside every tank's box of the scene file (rung 6:
+    none may leave)."""
+    inside = np.zeros(len(positions), dtype=bool)
+    for tank in sf.data.get("tank", []):
+        x0, y0, x1, y1 = tank["box"]
+        inside |= ((positions[:, 0] >= x0) & (positions[:, 0] <= x1) &
+                   (positions[:, 1] >= y0) & (positions[:, 1] <= y1))
+    return int((fluid & ~inside).sum())
+
+
 def _rms(v, mask):
     return float(math.sqrt((v[mask] ** 2).sum(axis=1).mean())) if mask.any() else 0.0
 
@@ -65,8 +76,8 @@ def _rms(v, mask):
 def still_water_under_air(until=10.0, sample_every=0.01, path=None):
     """Rung 1: the worst RMS water speed after 0.5 s with air above and
     without it (the same scene, air boxes left out), the worst RMS air
-    speed after 1 s, and the most air particles below the water surface at
-    any sample."""
+    speed after 1 s, the most air particles below the water surface at any
+    sample, and the most fluid particles outside the tank."""
     path = path or scene_path("still_water_under_air")
     result = {"until": until}
     for label, without in (("with_air", None), ("without_air", "air")):
@@ -77,7 +88,7 @@ def still_water_under_air(until=10.0, sample_every=0.01, path=None):
             air = (kinds == 0) & ~water
             air_ids = np.flatnonzero(air)
             worst_water = worst_air = 0.0
-            most_below = 0
+            most_below = most_outside = 0
             steps = int(round(until / sample_every))
             for k in range(1, steps + 1):
                 t = k * sample_every
@@ -89,7 +100,9 @@ def still_water_under_air(until=10.0, sample_every=0.01, path=None):
                     if t > 1.0 - 1e-12:
                         worst_air = max(worst_air, _rms(v, air))
                     most_below = max(most_below, below_surface(r, water, air_ids, sf.l0))
-            result[label] = {"worst_water_rms": worst_water, "steps": s.step_count}
+                most_outside = max(most_outside, outside_tank(sf, r, kinds == 0))
+            result[label] = {"worst_water_rms": worst_water, "steps": s.step_count,
+                             "most_outside_tank": most_outside}
             if air.any():
                 result[label].update(worst_air_rms=worst_air, most_air_below_surface=most_below)
     result["water_rms_ratio"] = (result["with_air"]["worst_water_rms"] /
@@ -129,7 +142,9 @@ def bubble_rise(name, until=2.0, sample_every=0.01, path=None):
     """Rung 3: the bubble's particles (air below the water surface at the
     start) in the water over time, when the last one left, their mean rise
     speed while all were in the water, against 0.5 sqrt(g R) (R the
-    equivalent radius), and the water's RMS speed at the end."""
+    equivalent radius), the water's RMS speed at the end and how flat the
+    surface is then (the largest distance of a column's top from their
+    mean, in l0), and the most fluid particles outside the tank at a sample."""
     path = path or scene_path(name)
     sf, s = _solver(path)
     with s:
@@ -142,7 +157,7 @@ def bubble_rise(name, until=2.0, sample_every=0.01, path=None):
                            if r0[i, 1] < tops.get(columns[i], -math.inf) - 0.5 * sf.l0])
         y_start = r0[bubble, 1].mean()
         radius = math.sqrt(len(bubble) * sf.l0 ** 2 / math.pi)
-        in_water, all_out_at, rise = [], None, None
+        in_water, all_out_at, rise, most_outside = [], None, None, 0
         status = "ran"
         steps = int(round(until / sample_every))
         for k in range(1, steps + 1):
@@ -153,6 +168,7 @@ def bubble_rise(name, until=2.0, sample_every=0.01, path=None):
                 status = "failed at t = %.3f s: %s" % (t, str(e)[:300])
                 break
             r = s.positions()
+            most_outside = max(most_outside, outside_tank(sf, r, kinds == 0))
             inside = below_surface(r, water, bubble, sf.l0)
             in_water.append((round(t, 6), inside))
             if inside == len(bubble):
@@ -160,13 +176,18 @@ def bubble_rise(name, until=2.0, sample_every=0.01, path=None):
             if inside == 0 and all_out_at is None:
                 all_out_at = t
         water_rms = _rms(s.velocities(), water)
+        _, tops_end = _column_tops(s.positions(), water, sf.l0)
+        # the surface settled back flat: the columns' tops about their mean, in l0
+        level = np.array(list(tops_end.values()))
+        surface = float(np.abs(level - level.mean()).max() / sf.l0)
         end = s.time
     estimate = 0.5 * math.sqrt(G * radius)
     return {"bubble_particles": int(len(bubble)), "status": status, "end": end,
             "all_out_at": all_out_at, "left_in_water": in_water[-1][1] if in_water else None,
             "rise_speed_while_whole": rise, "rise_estimate": estimate,
             "rise_ratio": None if rise is None else rise / estimate,
-            "water_rms_at_end": water_rms,
+            "water_rms_at_end": water_rms, "surface_deviation_at_end": surface,
+            "most_outside_tank": most_outside,
             "in_water": in_water[::10]}
 
 
