@@ -4,7 +4,8 @@
 # (meson suite "long"), then examples/validation.py's full runs (still water
 # for both schemes, the dam break at four spacings, Buchner's impact pressure
 # at H/l0 = 40 and 80) into out/validation, whose numbers docs/validation.md
-# quotes. The full accuracy-cost study is `mps2p study` (docs/accuracy-cost.md).
+# quotes, and the two-phase ladder's 10 s rung (MPS2P_LONG=1). The full
+# accuracy-cost study is `mps2p study` (docs/accuracy-cost.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -14,3 +15,6 @@ meson test -C build-release --suite long --print-errorlogs
 export MPS2P_LIBRARY="$PWD/build-release/lib/libmps2p.so.0"
 export PYTHONPATH="$PWD/bindings/python${PYTHONPATH:+:$PYTHONPATH}"
 python3 examples/validation.py all --out out/validation
+# the two-phase ladder's long rungs (docs/two-phase.md): still water under air for 10 s
+MPS2P_LONG=1 MPS2P_HEADER="$PWD/include/mps2p.h" python3 -m pytest -q -p no:cacheprovider \
+    tests/python/test_two_phase_ladder.py

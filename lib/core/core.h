@@ -161,6 +161,8 @@ typedef struct params {
     double light_fraction;     /* a fluid is light below this fraction of the heaviest */
     double sector_scan_walls;  /* 1 = walls count as heavy in the 8-sector scan */
     double join_enclosed;      /* 1 = enclosed light particles join as triggered ones */
+    double trigger_speed;      /* scan threshold, in sqrt(|g| l0) */
+    double join_bubbles;       /* 1 = gas cut off from the gas's free surface joins */
     double bubble_added_mass;  /* C_m of the volume reaction */
     double gas_pressure_limit; /* Pa; 0 = derived */
     double bubble_rise_velocity; /* m/s, slip of a joined light particle (drift) */

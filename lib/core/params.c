@@ -77,6 +77,12 @@ static const param_entry table[] = {
      "a fluid lighter than this fraction of the heaviest is light (two-phase)"},
     {"sector_scan_walls", FIELD(sector_scan_walls), 1.0, 0.0, 1.0,
      "1 = wall particles count as heavy (velocity 0) in the 8-sector scan"},
+    {"trigger_speed", FIELD(trigger_speed), 0.05, 0.0, 100.0,
+     "the 8-sector scan triggers when opposite sectors close faster than trigger_speed "
+     "sqrt(|g| l0); 0 = the paper's u_a < u_{a+4}"},
+    {"join_bubbles", FIELD(join_bubbles), 1.0, 0.0, 1.0,
+     "1 = light particles cut off from the gas's free surface (no path through light "
+     "neighbours within re_density: an enclosed bubble) react as triggered ones"},
     {"join_enclosed", FIELD(join_enclosed), 1.0, 0.0, 1.0,
      "1 = light particles with heavy ones in all 8 sectors react as triggered ones"},
     {"bubble_added_mass", FIELD(bubble_added_mass), 1.0, 0.0, 1e6,
@@ -85,7 +91,7 @@ static const param_entry table[] = {
      "rise velocity of a joined light particle relative to the liquid, m/s (drift)"},
     {"bubble_relaxation_time", FIELD(bubble_relaxation_time), 0.02, 1e-9, 1e6,
      "relaxation time of a joined light particle's slip toward the rise velocity, s (drift)"},
-    {"drift_liquid_gradient", FIELD(drift_liquid_gradient), 0.0, 0.0, 1.0,
+    {"drift_liquid_gradient", FIELD(drift_liquid_gradient), 1.0, 0.0, 1.0,
      "1 = a drift particle is corrected by the liquid pressure (as liquid), 0 = by its gas "
      "pressure"},
     {"join_ramp_time", FIELD(join_ramp_time), 0.0, 0.0, 1e6,

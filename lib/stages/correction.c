@@ -17,19 +17,21 @@
 #include "core/core.h"
 #include "stages/stages.h"
 
-static void pressure_gradient_at(const mps2p_solver *s, size_t i, const double *pressure,
-                                 double gradient[2])
+void pressure_gradient_at(const mps2p_solver *s, size_t i, const double *pressure,
+                          const unsigned char *mask, const unsigned char *surface,
+                          double gradient[2])
 {
     if (s->params.pressure_gradient == GRADIENT_MINIMUM) {
-        gradient_at(s, i, pressure, minimum_around(s, i, pressure), gradient);
+        gradient_masked_at(s, i, pressure, minimum_masked_around(s, i, pressure, mask), mask,
+                           gradient);
         return;
     }
     if (s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC)
-        gradient_with_ghosts_at(s, i, pressure, gradient);
+        gradient_with_ghosts_at(s, i, pressure, mask, surface, gradient);
     else
-        gradient_at(s, i, pressure, pressure[i], gradient);
+        gradient_masked_at(s, i, pressure, pressure[i], mask, gradient);
     double inverse[3];
-    if (corrective_matrix_at(s, i, inverse)) {
+    if (corrective_matrix_at(s, i, mask, inverse)) {
         double gx = gradient[0], gy = gradient[1];
         gradient[0] = inverse[0] * gx + inverse[1] * gy;
         gradient[1] = inverse[1] * gx + inverse[2] * gy;
@@ -48,7 +50,7 @@ int pressure_correct(mps2p_solver *s, double dt)
         if (s->kind[i] != MPS2P_KIND_FLUID)
             continue;
         double gradient[2];
-        pressure_gradient_at(s, i, pressure, gradient);
+        pressure_gradient_at(s, i, pressure, NULL, s->on_surface, gradient);
         du[0] = -dt / s->density[i] * gradient[0];
         du[1] = -dt / s->density[i] * gradient[1];
     });

@@ -45,6 +45,7 @@ void gradient_masked_at(const mps2p_solver *s, size_t i, const double *field, do
 }
 
 void gradient_with_ghosts_at(const mps2p_solver *s, size_t i, const double *pressure,
+                             const unsigned char *mask, const unsigned char *surface,
                              double out[2])
 {
     const double re = s->params.re_density * s->l0, re2 = re * re;
@@ -55,14 +56,14 @@ void gradient_with_ghosts_at(const mps2p_solver *s, size_t i, const double *pres
     double gx = 0.0, gy = 0.0;
     for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
         size_t j = nl.index[k];
-        if (s->kind[j] == MPS2P_KIND_DUMMY)
+        if (s->kind[j] == MPS2P_KIND_DUMMY || (mask && !mask[j]))
             continue;
         double dx = position[2 * j] - position[2 * i];
         double dy = position[2 * j + 1] - position[2 * i + 1];
         double r2 = dx * dx + dy * dy;
         if (r2 >= re2 || r2 <= 0.0)
             continue;
-        double difference = is_hydrostatic_ghost(s, s->on_surface, j)
+        double difference = is_hydrostatic_ghost(s, surface, j)
                                  ? hx * dx + hy * dy
                                  : pressure[j] - pressure[i];
         double f = difference / r2 * kernel_weight(sqrt(r2), re);
@@ -73,7 +74,8 @@ void gradient_with_ghosts_at(const mps2p_solver *s, size_t i, const double *pres
     out[1] = 2.0 / s->n0_density * gy;
 }
 
-int corrective_matrix_at(const mps2p_solver *s, size_t i, double inverse[3])
+int corrective_matrix_at(const mps2p_solver *s, size_t i, const unsigned char *mask,
+                         double inverse[3])
 {
     const double re = s->params.re_density * s->l0, re2 = re * re;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
@@ -81,7 +83,7 @@ int corrective_matrix_at(const mps2p_solver *s, size_t i, double inverse[3])
     double xx = 0.0, xy = 0.0, yy = 0.0;
     for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
         size_t j = nl.index[k];
-        if (s->kind[j] == MPS2P_KIND_DUMMY)
+        if (s->kind[j] == MPS2P_KIND_DUMMY || (mask && !mask[j]))
             continue;
         double dx = position[2 * j] - position[2 * i];
         double dy = position[2 * j + 1] - position[2 * i + 1];

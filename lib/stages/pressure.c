@@ -58,7 +58,7 @@ static double source_term(const mps2p_solver *s, const ppe_system *sys, size_t i
     const double n0 = s->n0_density, gamma = s->params.ppe_relaxation;
     const double scale = sys->density[i] / (dt * dt) / n0;
     const double n_star = sys->n_star[i];
-    if (s->params.ppe_source == PPE_SOURCE_DENSITY)
+    if (s->params.ppe_source == PPE_SOURCE_DENSITY || sys->density_source)
         return scale * gamma * (n_star - n0);
     const double n_start = sys->n_start[i]; /* allocated for these sources only */
     if (s->params.ppe_source == PPE_SOURCE_MIXED)
@@ -69,8 +69,13 @@ static double source_term(const mps2p_solver *s, const ppe_system *sys, size_t i
 /* The single-phase system: every fluid and wall particle, its own density. */
 static ppe_system single_phase_system(mps2p_solver *s)
 {
-    ppe_system sys = {NULL, s->on_surface, s->number_density, s->number_density_start,
-                      s->density, s->state.pressure, 0.0, NULL, 0.0, s->ppe_unknowns, 0, 0.0};
+    ppe_system sys = {.surface = s->on_surface,
+                      .n_star = s->number_density,
+                      .n_start = s->number_density_start,
+                      .density = s->density,
+                      .pressure = s->state.pressure,
+                      .hydrostatic_ghosts = s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC,
+                      .unknowns = s->ppe_unknowns};
     return sys;
 }
 
@@ -168,14 +173,14 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
         return fail(s->error, MPS2P_ERR_NOMEM,
                     "out of memory for the pressure matrix (%zu entries)", entries);
 
-    /* Hydrostatic ghosts (option wall_ghosts; single phase): a dummy, or a
+    /* Hydrostatic ghosts (option wall_ghosts; the systems of the water): a dummy, or a
      * wall on the free surface (a dry wall), seen from row i takes p_i +
      * rho_i g . r_ij, so its Laplacian term w (p_j - p_i) is the known
      * w rho_i g . r_ij: it goes to the right-hand side and the matrix stays
      * symmetric. Koshizuka and Oka's dummies are left out of the Laplacian, and
      * a dry wall is p = 0: both bend the hydrostatic field near walls, which
      * still water measures (docs/validation.md). */
-    const int ghosts = s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC && !sys->part;
+    const int ghosts = sys->hydrostatic_ghosts;
     const double gx = s->params.gravity[0], gy = s->params.gravity[1];
     /* Fill: each row into its own slots, its entries in neighbour order. */
     m->rows = (int)unknowns;

@@ -19,9 +19,11 @@ static inline int is_hydrostatic_ghost(const mps2p_solver *s, const unsigned cha
 {
     return s->kind[j] == MPS2P_KIND_DUMMY || (s->kind[j] == MPS2P_KIND_WALL && surface[j]);
 }
-/* The gradient with p_i as reference over non-dummy neighbours, where a wall
- * on the free surface takes the ghost value p_i + rho_i g . r_ij. */
+/* The gradient with p_i as reference over non-dummy neighbours (those of
+ * mask, when given), where a wall flagged in surface takes the ghost value
+ * p_i + rho_i g . r_ij. */
 void gradient_with_ghosts_at(const mps2p_solver *s, size_t i, const double *pressure,
+                             const unsigned char *mask, const unsigned char *surface,
                              double out[2]);
 /* (d / n0) sum_j (f_j - reference) r_ij w / |r_ij|^2 over non-dummy neighbours. */
 void gradient_at(const mps2p_solver *s, size_t i, const double *field, double reference,
@@ -40,13 +42,21 @@ double minimum_masked_around(const mps2p_solver *s, size_t i, const double *fiel
 void laplacian_masked_at(const mps2p_solver *s, size_t i, const double *field,
                          size_t components, const unsigned char *mask, double *out);
 /* Inverse of (d/n0) sum_j w r_ij r_ij^T / |r_ij|^2 over fluid and wall
- * neighbours, as (xx, xy, yy); returns 0 when its determinant is below
+ * neighbours (those of mask, when given), as (xx, xy, yy); returns 0 when its determinant is below
  * CORRECTIVE_MIN_DETERMINANT (one-sided neighbourhoods), 1 otherwise. */
 #define CORRECTIVE_MIN_DETERMINANT 0.1
-int corrective_matrix_at(const mps2p_solver *s, size_t i, double inverse[3]);
+int corrective_matrix_at(const mps2p_solver *s, size_t i, const unsigned char *mask,
+                         double inverse[3]);
 /* (2d / (lambda n0)) sum_j (f_j - f_i) w, per component of an interleaved field. */
 void laplacian_at(const mps2p_solver *s, size_t i, const double *field, size_t components,
                   double *out);
+
+/* The pressure gradient of option pressure_gradient at fluid particle i over
+ * the neighbours of mask (NULL = all), dry walls those flagged in surface
+ * (correction.c): the single phase's and the liquid's. */
+void pressure_gradient_at(const mps2p_solver *s, size_t i, const double *pressure,
+                          const unsigned char *mask, const unsigned char *surface,
+                          double gradient[2]);
 
 /* ---- the time step (timestep.c) ---- */
 
@@ -92,6 +102,8 @@ typedef struct ppe_system {
     double tolerance;           /* CG tolerance; 0 = cg_tolerance */
     const double *dirichlet;    /* values of participants that are not unknowns; NULL = 0 */
     double re_in_l0;            /* Laplacian radius of this system; 0 = re_laplacian */
+    int hydrostatic_ghosts;     /* dummies and dry walls as ghosts (option wall_ghosts) */
+    int density_source;         /* Koshizuka's source gamma (n* - n0) whatever ppe_source */
     size_t unknowns, iterations;
     double residual;
 } ppe_system;

@@ -48,10 +48,13 @@ static double continuity_density(const mps2p_solver *s, size_t i, double rho_eff
     return tp->light_density + f * (rho_eff - tp->light_density);
 }
 
-/* Correction per phase, Koshizuka and Oka's gradient over the particles each
- * phase sees:
- *   liquid: the liquid pressure over liquid, walls (and joined light ones);
- *   light particle moved by the gas: gas pressure over every particle, rho_a;
+/* Correction per phase, over the particles each phase sees:
+ *   liquid: the liquid pressure over liquid, walls (and joined light ones),
+ *     with the single phase's gradient (option pressure_gradient; its dry
+ *     walls and dummies as ghosts with wall_ghosts): a liquid under air is
+ *     as quiet as one alone (docs/two-phase.md, the ladder's first rung);
+ *   light particle moved by the gas: Koshizuka and Oka's gradient of the gas
+ *     pressure over every particle, rho_a;
  *   light particle joined by the volume reaction: the liquid pressure over
  *   the liquid's particles, divided by the added-mass density
  *   rho_eff = (rho_a + C_m rho_l) / (1 + C_m). That is the exact acceleration
@@ -76,13 +79,11 @@ int phases_correct(mps2p_solver *s, double dt)
             continue;
         double gradient[2], rho = s->density[i];
         if (!tp->light[i]) {
-            gradient_masked_at(s, i, tp->heavy_pressure,
-                               minimum_masked_around(s, i, tp->heavy_pressure, tp->heavy_part),
-                               tp->heavy_part, gradient);
+            pressure_gradient_at(s, i, tp->heavy_pressure, tp->heavy_part, tp->heavy_surface,
+                                 gradient);
         } else if (moves_with_liquid(s, i)) {
-            gradient_masked_at(s, i, tp->heavy_pressure,
-                               minimum_masked_around(s, i, tp->heavy_pressure, tp->heavy_part),
-                               tp->heavy_part, gradient);
+            pressure_gradient_at(s, i, tp->heavy_pressure, tp->heavy_part, tp->heavy_surface,
+                                 gradient);
             /* drift: moved as liquid, then the slip below */
             rho = s->params.interface_reaction == REACTION_VOLUME ? rho_eff : tp->heavy_density;
         } else {

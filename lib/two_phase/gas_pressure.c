@@ -63,13 +63,22 @@ int gas_pressure_solve(mps2p_solver *s, double dt)
         if (continuity)
             tp->gas_dirichlet[i] = liquid ? tp->heavy_pressure[i] : 0.0;
     }
-    ppe_system gas = {tp->gas_part, tp->gas_surface, n_gas,
-                      s->number_density_start, tp->gas_rho, tp->gas_pressure,
-                      s->params.gas_cg_tolerance, continuity ? tp->gas_dirichlet : NULL,
+    ppe_system gas = {.part = tp->gas_part,
+                      .surface = tp->gas_surface,
+                      .n_star = n_gas,
+                      .n_start = s->number_density_start,
+                      .density = tp->gas_rho,
+                      .pressure = tp->gas_pressure,
+                      .tolerance = s->params.gas_cg_tolerance,
+                      .dirichlet = continuity ? tp->gas_dirichlet : NULL,
                       /* continuity: the liquid's pressure reaches only gas
                        * particles with a liquid neighbour within re_density,
                        * those whose inertia is bounded (correction.c) */
-                      continuity ? s->params.re_density : 0.0, 0, 0, 0.0};
+                      .re_in_l0 = continuity ? s->params.re_density : 0.0,
+                      /* n* is the liquid-weighted gas_n, n^k the plain number
+                       * density: their difference (the ecs and mixed sources)
+                       * is not the gas's compression */
+                      .density_source = 1};
     int status = pressure_assemble_system(s, dt, &gas);
     if (status == MPS2P_OK)
         status = pressure_solve_system(s, &gas);

@@ -7,7 +7,11 @@
  * holds (a-1) pi/4 <= theta < a pi/4. Heavy particles in a sector give its
  * representative velocity: max u_x in sectors 1, 2, 5, 6, max u_y in 3, 4, 7,
  * 8. delta_al = 1 when, for some a in 1..4, sectors a and a+4 both hold heavy
- * particles and u_a < u_{a+4}. Walls and dummies count as heavy particles at
+ * particles and u_a < u_{a+4}, here u_a + trigger_speed sqrt(|g| l0) <
+ * u_{a+4}: the paper's strict inequality fires on the velocity noise of
+ * liquid at rest (in still water under air, about half of the air's bottom
+ * row every step; docs/two-phase.md), and the threshold keeps it to
+ * closing liquid. Walls and dummies count as heavy particles at
  * rest when sector_scan_walls = 1 (the default: the gas is pinched against
  * walls at impact, which a liquid-only scan misses). "Enclosed": heavy
  * particles in all 8 sectors. The scan is a stage of effect two_phase (its
@@ -15,8 +19,12 @@
  *
  * Join (stage interface_join, effect interface_reaction: two_step_improved
  * only): a light particle reacts when triggered, or enclosed if
- * join_enclosed = 1, or, with join_hold, when it reacted in the step before
- * and is still inside the liquid.
+ * join_enclosed = 1, or in an enclosed bubble if join_bubbles = 1 (cut off
+ * from the gas's free surface: without it only a bubble's outer ring joins,
+ * the liquid solve sees a hole where its core is, puts p = 0 on the ring
+ * and the water falls into the bubble; docs/two-phase.md, the ladder's
+ * third rung), or, with join_hold, when it reacted in the step before and
+ * is still inside the liquid.
  *
  * Reaction (option interface_reaction), the discrete form of delta_al
  * (-grad p)_a in eq. (5), which the paper leaves open:
@@ -51,6 +59,8 @@ int interface_scan(mps2p_solver *s, double dt)
     const double *r = s->state.position, *u = s->state.velocity;
     const int walls = s->params.sector_scan_walls != 0.0;
     const double quarter = PI / 4.0;
+    const double closing = s->params.trigger_speed *
+                           sqrt(hypot(s->params.gravity[0], s->params.gravity[1]) * s->l0);
     size_t triggered = 0, enclosed = 0;
     for (size_t i = 0; i < s->count; i++) {
         tp->triggered[i] = tp->enclosed[i] = 0;
@@ -83,7 +93,7 @@ int interface_scan(mps2p_solver *s, double dt)
         for (int a = 0; a < 8; a++)
             all &= occupied[a];
         for (int a = 0; a < 4; a++)
-            if (occupied[a] && occupied[a + 4] && rep[a] < rep[a + 4])
+            if (occupied[a] && occupied[a + 4] && rep[a] + closing < rep[a + 4])
                 trigger = 1;
         tp->triggered[i] = (unsigned char)trigger;
         tp->enclosed[i] = (unsigned char)all;
@@ -95,10 +105,52 @@ int interface_scan(mps2p_solver *s, double dt)
     return MPS2P_OK;
 }
 
+/* Enclosed bubbles: light particles with no path through light neighbours
+ * within re_density to a light particle on the free surface (n* < beta n0:
+ * the top of the air). Breadth first from the free surface. A gas that has
+ * no free surface at all (a closed tank full to the lid) is one bubble. */
+static size_t mark_bubbles(mps2p_solver *s)
+{
+    two_phase *tp = s->phases;
+    const double re = s->params.re_density * s->l0, re2 = re * re;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
+    const double *r = s->state.position;
+    const double threshold = s->params.beta * s->n0_density;
+    unsigned char *reached = tp->bubble; /* reached first, then its complement */
+    long *queue = tp->bubble_queue;
+    size_t head = 0, tail = 0;
+    for (size_t i = 0; i < s->count; i++) {
+        reached[i] = tp->light[i] && s->number_density[i] < threshold;
+        if (reached[i])
+            queue[tail++] = (long)i;
+    }
+    while (head < tail) {
+        size_t i = (size_t)queue[head++];
+        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+            size_t j = nl.index[k];
+            if (!tp->light[j] || reached[j])
+                continue;
+            double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
+            if (dx * dx + dy * dy >= re2)
+                continue;
+            reached[j] = 1;
+            queue[tail++] = (long)j;
+        }
+    }
+    size_t count = 0;
+    for (size_t i = 0; i < s->count; i++) {
+        reached[i] = tp->light[i] && !reached[i];
+        count += reached[i];
+    }
+    return count;
+}
+
 int interface_join(mps2p_solver *s, double dt)
 {
     (void)dt;
     two_phase *tp = s->phases;
+    const int bubbles_on = s->params.join_bubbles != 0.0;
+    tp->bubble_count = bubbles_on ? mark_bubbles(s) : 0;
     const int hold_on = s->params.join_hold != 0.0;
     const int enclosed_on = s->params.join_enclosed != 0.0;
     size_t joined = 0;
@@ -111,7 +163,8 @@ int interface_join(mps2p_solver *s, double dt)
          * liquid, so that it does not flicker between the two solves. */
         int hold = tp->was_joined[i] && hold_on && more_liquid_than_light_neighbours(s, i);
         tp->joined[i] =
-            (unsigned char)(tp->triggered[i] || hold || (tp->enclosed[i] && enclosed_on));
+            (unsigned char)(tp->triggered[i] || hold || (tp->enclosed[i] && enclosed_on) ||
+                            (bubbles_on && tp->bubble[i]));
         joined += tp->joined[i];
     }
     tp->joined_count = joined;

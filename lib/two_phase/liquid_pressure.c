@@ -48,6 +48,30 @@ int phases_step_start(mps2p_solver *s, double dt)
 }
 
 
+/* n^k as if this step's join weights had held at its start: the ecs and
+ * mixed sources take n* - n^k as this step's compression, and a particle
+ * joining (its weight 0 in n^k, 1 in n*) would read as a whole particle's
+ * compression of its neighbours, a pressure spike (measured: the 8 x 8
+ * bubble diverged in 0.02 s). The change is weighed at r*, not r^k. */
+static void start_density_follows_join(mps2p_solver *s, const double *old_weight)
+{
+    two_phase *tp = s->phases;
+    const double re = s->params.re_density * s->l0;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
+    const double *position = s->state.position;
+    for (size_t j = 0; j < s->count; j++) {
+        double change = tp->light[j] ? tp->join_weight[j] - old_weight[j] : 0.0;
+        if (change == 0.0)
+            continue;
+        for (size_t k = nl.start[j]; k < nl.start[j + 1]; k++) {
+            size_t i = nl.index[k];
+            double dx = position[2 * j] - position[2 * i];
+            double dy = position[2 * j + 1] - position[2 * i + 1];
+            tp->heavy_n_start[i] += change * kernel_weight(sqrt(dx * dx + dy * dy), re);
+        }
+    }
+}
+
 static int joins_liquid_solve(const mps2p_solver *s, size_t i)
 {
     const two_phase *tp = s->phases;
@@ -68,6 +92,8 @@ int liquid_pressure_solve(mps2p_solver *s, double dt)
      * same way: it usually joins while overlapping liquid particles, and a
      * sudden full weight is a pressure spike. */
     const double ramp = s->params.join_ramp_time > 0.0 ? dt / s->params.join_ramp_time : 1.0;
+    double *old_weight = s->scratch;
+    memcpy(old_weight, tp->join_weight, s->count * sizeof *old_weight);
     for (size_t i = 0; i < s->count; i++) {
         if (!tp->light[i])
             continue;
@@ -85,14 +111,22 @@ int liquid_pressure_solve(mps2p_solver *s, double dt)
         tp->heavy_rho[i] = tp->light[i] ? tp->heavy_density : s->density[i];
     }
     heavy_number_density(s, tp->heavy_n);
+    start_density_follows_join(s, old_weight);
     size_t surface = 0;
     for (size_t i = 0; i < s->count; i++) {
         tp->heavy_surface[i] = tp->heavy_part[i] && tp->heavy_n[i] < threshold;
         surface += tp->heavy_surface[i];
     }
     s->surface_particles = surface;
-    ppe_system heavy = {tp->heavy_part, tp->heavy_surface, tp->heavy_n, tp->heavy_n_start,
-                        tp->heavy_rho, tp->heavy_pressure, 0.0, NULL, 0.0, 0, 0, 0.0};
+    /* the liquid's walls and dummies as hydrostatic ghosts, as in one phase */
+    ppe_system heavy = {.part = tp->heavy_part,
+                        .surface = tp->heavy_surface,
+                        .n_star = tp->heavy_n,
+                        .n_start = tp->heavy_n_start,
+                        .density = tp->heavy_rho,
+                        .pressure = tp->heavy_pressure,
+                        .hydrostatic_ghosts =
+                            s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC};
     int status = pressure_assemble_system(s, dt, &heavy);
     if (status == MPS2P_OK)
         status = pressure_solve_system(s, &heavy);

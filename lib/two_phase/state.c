@@ -28,7 +28,7 @@
  *                    at the end of every step (and at allocation): rebuilt
  *                    from join_weight, not saved
  * Not carried: light, gas_rho, improved and the densities come from the
- * scene; triggered, enclosed, was_joined, heavy_part, gas_part, the
+ * scene; triggered, enclosed, was_joined, bubble, bubble_queue, heavy_part, gas_part, the
  * surfaces, heavy_n, heavy_n_start, gas_n, gas_dirichlet and heavy_rho are
  * written for every particle in a step before they are read. */
 #include "core/core.h"
@@ -59,6 +59,8 @@ static const field two_phase_rows[] = {
     ARRAY(triggered, FIELD_FLAG, 0),
     ARRAY(enclosed, FIELD_FLAG, 0),
     ARRAY(was_joined, FIELD_FLAG, 0),
+    ARRAY(bubble, FIELD_FLAG, 0),
+    ARRAY(bubble_queue, FIELD_LONG, 0),
     ARRAY(heavy_part, FIELD_FLAG, 0),
     ARRAY(gas_part, FIELD_FLAG, 0),
     ARRAY(heavy_surface, FIELD_FLAG, 0),

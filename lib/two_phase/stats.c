@@ -13,6 +13,7 @@ COUNT(gas_triggered, triggered_count)
 COUNT(gas_enclosed, enclosed_count)
 COUNT(gas_joined, joined_count)
 COUNT(gas_capped, capped_count)
+COUNT(gas_in_bubbles, bubble_count)
 COUNT(gas_ppe_unknowns, gas_unknowns)
 COUNT(gas_ppe_iterations, gas_iterations)
 
@@ -36,6 +37,8 @@ const stat_entry two_phase_stats[] = {
     STAT(gas_triggered, 1, "light particles with delta_al = 1 in the last step"),
     STAT(gas_enclosed, 1, "light particles with heavy ones in all 8 sectors in the last step"),
     STAT(gas_joined, 1, "light particles reacting on the liquid in the last step"),
+    STAT(gas_in_bubbles, 1,
+         "light particles cut off from the gas's free surface (enclosed bubbles) in the last step"),
     STAT(gas_in_liquid, 1,
          "light particles inside the heavy fluid: more heavy than light neighbours within "
          "re_density, or heavy fluid above and heavy fluid or wall below (computed when asked)"),

@@ -21,6 +21,8 @@ typedef struct two_phase {
     unsigned char *enclosed;    /* heavy particles in all 8 sectors */
     unsigned char *joined;      /* light particle taking part in the liquid solve */
     unsigned char *was_joined;  /* joined in the step before */
+    unsigned char *bubble;      /* light, cut off from the gas's free surface */
+    long *bubble_queue;         /* the flood fill's queue (interface_join) */
     double *join_weight;        /* weight in the liquid's number density, ramped 0..1 */
     unsigned char *heavy_part;  /* participants of the liquid PPE */
     unsigned char *heavy_mask;  /* neighbours the liquid sees: not light, or joined */
@@ -35,7 +37,7 @@ typedef struct two_phase {
     double *heavy_rho, *gas_rho;     /* densities of the two PPEs' sources */
     double gas_pressure_limit;
     /* diagnostics of the last step */
-    size_t triggered_count, enclosed_count, joined_count, capped_count;
+    size_t triggered_count, enclosed_count, joined_count, capped_count, bubble_count;
     size_t heavy_unknowns, heavy_iterations, gas_unknowns, gas_iterations;
     double gas_pressure_max;
 } two_phase;

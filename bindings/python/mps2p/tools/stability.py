@@ -169,7 +169,7 @@ def _sample(solver, scene_file, mass, fluid, ids, kinetic, released, work, close
         row["kinetic_energy_" + name] = float(0.5 * np.sum(mass[mine] * speed2[mine]))
     if solver.stat("two_phase_active"):
         for key in ("gas_in_liquid", "gas_triggered", "gas_enclosed", "gas_joined",
-                    "gas_pressure_max", "gas_capped"):
+                    "gas_in_bubbles", "gas_pressure_max", "gas_capped"):
             row[key] = solver.stat(key)
     return row
 

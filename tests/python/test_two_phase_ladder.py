@@ -1,0 +1,49 @@
+"""The two-phase ladder (docs/two-phase.md, "The ladder"): the simplest cases
+that show the gas-liquid coupling, each a scene in examples/scenes, measured
+by mps2p.tools.ladder. Rung 1 runs 2 s here and 10 s in the long suite
+(MPS2P_LONG=1, scripts/test-long.sh); rung 2 in full here."""
+import os
+
+import pytest
+
+from mps2p.tools import ladder
+
+LONG = os.environ.get("MPS2P_LONG") == "1"
+
+
+@pytest.mark.parametrize("until", [10.0 if LONG else 2.0])
+def test_still_water_under_air_stays_still(until):
+    """No air particle below the water surface at any sample (every 0.01 s);
+    the water's worst RMS speed after 0.5 s within 20 % of the same tank
+    without air; the air's own worst RMS speed after 1 s below 0.05 m/s."""
+    m = ladder.still_water_under_air(until=until)
+    with_air = m["with_air"]
+    assert with_air["most_air_below_surface"] == 0, m
+    assert 0.8 < m["water_rms_ratio"] < 1.2, m
+    assert with_air["worst_air_rms"] < 0.05, m
+    # and quiet in absolute terms: issue 15's bar for still water, 0.005 sqrt(g H)
+    assert with_air["worst_water_rms"] < 0.005 * (9.81 * 0.2) ** 0.5, m
+
+
+def test_droplet_falls_through_air_at_g():
+    """A 3 x 3 water block released 0.3 m above a pool: a parabola fitted to
+    its fall until it nears the pool accelerates at g within 5 %."""
+    m = ladder.droplet_in_air()
+    assert m["droplet_particles"] == 9, m
+    assert m["fitted_until"] > 0.2, m  # fell most of the 0.3 m
+    assert abs(m["relative_error"]) < 0.05, m
+
+
+@pytest.mark.parametrize("name", ["bubble_rise_4x4", "bubble_rise_8x8"])
+def test_bubble_rises_out(name):
+    """A square air bubble released 0.05 m above the floor of 0.3 m of
+    water: every particle of it out of the water within 2 s and none back
+    in by then; its rise while whole within a factor of two of
+    0.5 sqrt(g R); no fluid particle leaves the tank; the surface flat
+    again (every column's top within 1.5 l0 of their mean) at 2 s."""
+    m = ladder.bubble_rise(name, until=2.0)
+    assert m["status"] == "ran", m
+    assert m["all_out_at"] is not None and m["left_in_water"] == 0, m
+    assert 0.5 < m["rise_ratio"] < 2.0, m
+    assert m["most_outside_tank"] == 0, m
+    assert m["surface_deviation_at_end"] < 1.5, m
