@@ -3,10 +3,10 @@ examples/scenes run with the checks of mps2p.tools.stability after every step.
 
 By default (CI): the conventional model's documented failure on the drop into
 a pool (detected at the impact, with its place), and the improved model on
-the same scene through the impact without a divergence.
+the same scene to its end with every check.
 
 With MPS2P_HARD_CASES=1 (scripts/test-hard-cases.sh): issue 9's acceptance
-tests. The improved model on every hard case to its end time with every
+tests. The improved model on the other hard cases to their end time with every
 check, the paper's case to 3 s with the entrained air below a quarter of its
 peak, and the paper's case at l0 = 0.005 m to 1 s. They do not all pass yet:
 docs/two-phase.md has what each does and why."""
@@ -48,17 +48,20 @@ def test_conventional_model_diverges_where_the_drop_traps_air():
         assert float(message.split(" s:")[0].split("t = ")[1]) > 0.15, (what, message)
 
 
-def test_improved_model_holds_the_drop_impact():
-    report = check_run(scene("drop_into_pool"), until=0.3, options=IMPROVED)
-    assert report["status"] != "diverged", report["reason"]
-    assert "divergence" not in report["violations"]
-    peak, _ = gas_in_liquid_peak_and_last(report)
+def test_drop_into_pool_passes_every_check():
+    """The improved model through the drop's impact to the scene's end (1 s)
+    with every check of mps2p.tools.stability (energy, inside the tank,
+    counts, spacing); the air trapped under the drop is counted, and most of
+    it has risen out by the end (measured: peak 24, 1 at 1 s)."""
+    report = check_run(scene("drop_into_pool"), options=IMPROVED)
+    assert report["status"] == "ok", (report["reason"], report["violations"])
+    peak, last = gas_in_liquid_peak_and_last(report)
     assert peak > 0  # air is trapped under the drop, and counted
+    assert last < 0.25 * peak, "air in the water: peak %d, at 1 s %d" % (peak, last)
 
 
 @acceptance
-@pytest.mark.parametrize("name", ["ikari2003_dam_break_air", "drop_into_pool", "wet_bed_air",
-                                  "sloshing_air"])
+@pytest.mark.parametrize("name", ["ikari2003_dam_break_air", "wet_bed_air", "sloshing_air"])
 def test_improved_model_is_stable(name):
     report = check_run(scene(name), options=IMPROVED)
     assert report["status"] == "ok", (report["reason"], report["violations"])
