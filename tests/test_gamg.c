@@ -1,12 +1,16 @@
 /* pressure_solver "gamg" (PETSc's CG with algebraic multigrid, option
  * petsc): it agrees with CHOLMOD on the systems test_solvers uses, needs
  * fewer iterations than CG with Jacobi, gives the same bits for any thread
- * count and beside another solver in another thread, and a solve that may
- * not converge is MPS2P_ERR_SOLVE with the state as it was. In a build
+ * count and beside another solver in another thread, continues a
+ * checkpoint bit for bit, and a solve that may not converge is
+ * MPS2P_ERR_SOLVE with the state as it was. In a build
  * without PETSc: gamg is neither listed nor accepted (MPS2P_ERR_INVALID,
  * naming PETSc), then the test is skipped (77). */
+#define _POSIX_C_SOURCE 200809L /* mkdtemp */
 #include <pthread.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "scenes.h"
 
 static int gamg_listed(void)
@@ -199,5 +203,37 @@ int main(void)
         free(jobs[i].pressure);
     free(one);
     free(two);
+
+    /* 5. a checkpoint continues bit for bit: nothing of the solve is carried
+     * between steps but the pressure (the initial guess), which is saved */
+    char dir[] = "/tmp/mps2p-gamg-XXXXXX", path[64];
+    CHECK(mkdtemp(dir) != NULL, "mkdtemp");
+    snprintf(path, sizeof path, "%s/gamg.chk", dir);
+    scene = dam_break_scene(0.01);
+    MUST(mps2p_scene_set_option(scene, "pressure_solver", "gamg"));
+    mps2p_solver *run, *restored;
+    MUST(mps2p_solver_create(scene, &run));
+    mps2p_scene_destroy(scene);
+    for (int s = 0; s < 3; s++)
+        MUST(mps2p_solver_step(run));
+    MUST(mps2p_solver_save_checkpoint(run, path));
+    MUST(mps2p_solver_load_checkpoint(path, &restored));
+    for (int s = 0; s < 3; s++) {
+        MUST(mps2p_solver_step(run));
+        MUST(mps2p_solver_step(restored));
+    }
+    MUST(mps2p_solver_particle_count(run, &n));
+    double *a = malloc(3 * n * sizeof *a), *b = malloc(3 * n * sizeof *b);
+    MUST(mps2p_solver_get_positions(run, a, 2 * n));
+    MUST(mps2p_solver_get_pressure(run, a + 2 * n, n));
+    MUST(mps2p_solver_get_positions(restored, b, 2 * n));
+    MUST(mps2p_solver_get_pressure(restored, b + 2 * n, n));
+    CHECK(same_bits(a, b, 3 * n), "the restored gamg run differs from the one it was saved from");
+    free(a);
+    free(b);
+    mps2p_solver_destroy(run);
+    mps2p_solver_destroy(restored);
+    unlink(path);
+    rmdir(dir);
     return check_summary("test_gamg");
 }
