@@ -3,8 +3,8 @@
 # about 13,000 to 1,000,000 particles, for CG (Jacobi, IC(0)) and gamg (a
 # build with PETSc), one l0 per process (so that each l0 has its own peak
 # resident memory), then the plot (benchmarks/scale_plot.py).
-# docs/performance.md, "Algebraic multigrid (PETSc GAMG)". About 20 minutes
-# on the 2-core machine, most of it CG with Jacobi at 1,000,000 particles.
+# docs/performance.md, "Algebraic multigrid (PETSc GAMG)". About 10 minutes
+# on the 2-core machine, most of it CG at 1,000,000 particles.
 #   bash benchmarks/scale.sh [build-dir [out-dir [l0 ...]]]   (SCALE_PNG: the figure's path)
 set -euo pipefail
 cd "$(dirname "$0")/.."
