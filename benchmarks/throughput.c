@@ -15,16 +15,21 @@
  * For each: particles, wall time and CPU time per step (after 3 warm-up
  * steps), particle-steps per second (wall), time per simulated second (wall
  * per step / dt), memory per particle, and the fitted growth exponents (of
- * wall and CPU time). Prints Markdown.
+ * wall and CPU time). Prints Markdown; then, for each l0, the stages that
+ * took most of the timed steps' wall time and the process's peak resident
+ * memory so far (run one l0 per process for each l0's own peak).
  *
  *   throughput [steps [solver [case] [l0 ...]]]
- *       solver: cholmod (default) or cg; case: water (default) or two_phase */
+ *       solver: cholmod (default), cg, or gamg (a build with PETSc);
+ *       case: water (default) or two_phase. MPS2P_PRECONDITIONER=ic0 sets CG's
+ *       preconditioner (default jacobi). */
 #include <mps2p.h>
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <time.h>
 
 static void check(int status, const char *what)
@@ -83,6 +88,7 @@ int main(int argc, char **argv)
         levels[k] = argc > first ? atof(argv[first + k]) : default_levels[k];
 
     double particles[16], per_step[16], cpu_per_step[16], memory[16];
+    static char stage_line[16][256];
     if (two_phase)
         printf("Two-phase dam break (water 0.15 m x 0.3 m, air to 0.7 m, 0.6 m tank; "
                "two_step_improved, drift), pressure solver %s, %d steps after 3 warm-up "
@@ -98,6 +104,10 @@ int main(int argc, char **argv)
         int water;
         check(mps2p_scene_create(levels[k], &scene), "scene");
         check(mps2p_scene_set_option(scene, "pressure_solver", solver_kind), "solver kind");
+        if (getenv("MPS2P_PRECONDITIONER"))
+            check(mps2p_scene_set_option(scene, "cg_preconditioner",
+                                         getenv("MPS2P_PRECONDITIONER")),
+                  "cg_preconditioner");
         if (getenv("MPS2P_THREADS")) /* parameter threads (docs/performance.md) */
             check(mps2p_scene_set_param(scene, "threads", atof(getenv("MPS2P_THREADS"))),
                   "threads");
@@ -124,6 +134,7 @@ int main(int argc, char **argv)
         check(mps2p_solver_particle_count(solver, &n), "count");
         for (int s = 0; s < 3; s++)
             check(mps2p_solver_step(solver), "warm-up step");
+        check(mps2p_solver_reset_stage_timings(solver), "stage timings");
         double start = now(), cpu_start = cpu_now(), dt_sum = 0.0;
         for (int s = 0; s < steps; s++) {
             double dt;
@@ -147,6 +158,37 @@ int main(int argc, char **argv)
         printf("| %g | %zu | %.2f | %.2f | %.3g | %.2e | %.0f | %.0f |\n", levels[k], n,
                1e3 * wall, 1e3 * cpu, (double)n / wall, dt, wall / dt, memory[k]);
         fflush(stdout);
+        /* the three slowest stages of the timed steps, as shares of their wall time */
+        size_t stages;
+        check(mps2p_solver_stage_count(solver, &stages), "stage count");
+        const char *top_name[3] = {"", "", ""};
+        double top_seconds[3] = {0.0, 0.0, 0.0};
+        for (size_t i = 0; i < stages; i++) {
+            const char *name;
+            double t;
+            check(mps2p_solver_get_stage(solver, i, &name, NULL, &t, NULL), "stage");
+            for (int r = 0; r < 3; r++) {
+                if (t > top_seconds[r]) {
+                    for (int q = 2; q > r; q--) {
+                        top_seconds[q] = top_seconds[q - 1];
+                        top_name[q] = top_name[q - 1];
+                    }
+                    top_seconds[r] = t;
+                    top_name[r] = name;
+                    break;
+                }
+            }
+        }
+        struct rusage usage;
+        getrusage(RUSAGE_SELF, &usage);
+        int written = snprintf(stage_line[k], sizeof stage_line[k],
+                               "- l0 = %g (%zu particles): peak resident memory %.0f bytes per "
+                               "particle; stages",
+                               levels[k], n, 1024.0 * (double)usage.ru_maxrss / (double)n);
+        for (int r = 0; r < 3 && written > 0 && (size_t)written < sizeof stage_line[k]; r++)
+            written += snprintf(stage_line[k] + written, sizeof stage_line[k] - (size_t)written,
+                                " %s %.0f %%", top_name[r],
+                                100.0 * top_seconds[r] / (wall * steps));
         mps2p_solver_destroy(solver);
     }
     if (count >= 2) {
@@ -155,5 +197,9 @@ int main(int argc, char **argv)
                slope(particles, per_step, count), slope(particles, cpu_per_step, count),
                slope(particles, memory, count));
     }
+    printf("\nSlowest stages (share of the timed steps' wall time) and the process's peak "
+           "resident memory:\n\n");
+    for (int k = 0; k < count; k++)
+        printf("%s\n", stage_line[k]);
     return 0;
 }

@@ -208,7 +208,12 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
 
 /* Choices, by name:
  *   pressure_solver   "cholmod" (default, sparse direct) or "cg"
- *                     (preconditioned conjugate gradients, cg_tolerance)
+ *                     (preconditioned conjugate gradients, cg_tolerance), or
+ *                     "gamg": PETSc's CG with its algebraic multigrid
+ *                     (cg_tolerance, cg_max_iterations), only in a build
+ *                     with PETSc (listed by mps2p_option_choice there;
+ *                     elsewhere refused, MPS2P_ERR_INVALID); its solves are
+ *                     serialised across threads (docs/guarantees.md)
  *   cg_preconditioner "jacobi" (default): the diagonal; "ic0": incomplete
  *                     Cholesky with the matrix's own pattern, about 3.5
  *                     times fewer iterations at twice the cost of one; pays

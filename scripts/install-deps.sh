@@ -9,6 +9,9 @@ packages="$packages clang libclang-rt-14-dev abigail-tools"
 # readers) and a virtual X server for its renderer, without recommends
 # (212 packages, about a minute to install).
 viewer="paraview python3-paraview xvfb xauth"
+# pressure_solver gamg (meson option petsc): PETSc and the MPI headers its
+# own headers include, without recommends (about 75 packages, half a minute).
+viewer="$viewer libpetsc-real-dev mpi-default-dev"
 missing=""
 for p in $packages; do
     dpkg -s "$p" >/dev/null 2>&1 || missing="$missing $p"

@@ -257,9 +257,20 @@ typedef struct option_entry {
 } option_entry;
 
 #define EFFECT_CHOICES "auto: on when the scene needs it; on: required; off: left out"
+/* "gamg" keeps its index in every build (checkpoints name it; a build
+ * without PETSc refuses it by name and does not list it, see choice_count). */
+#ifdef MPS2P_HAVE_PETSC
+#define PRESSURE_SOLVER_DESCRIPTION                                                        \
+    "the pressure solver: sparse direct (cholmod), preconditioned conjugate gradients "   \
+    "(cg), or CG with PETSc's algebraic multigrid (gamg)"
+#else
+#define PRESSURE_SOLVER_DESCRIPTION                                                        \
+    "the pressure solver: sparse direct (cholmod) or preconditioned conjugate gradients "  \
+    "(cg); gamg (PETSc's algebraic multigrid) is not in this build (meson option petsc)"
+#endif
 static const option_entry options[] = {
-    {"pressure_solver", offsetof(params, pressure_solver), {"cholmod", "cg", NULL},
-     "the pressure solver: sparse direct (cholmod) or preconditioned conjugate gradients"},
+    {"pressure_solver", offsetof(params, pressure_solver), {"cholmod", "cg", "gamg", NULL},
+     PRESSURE_SOLVER_DESCRIPTION},
     {"cg_preconditioner", offsetof(params, cg_preconditioner), {"jacobi", "ic0", NULL},
      "CG's preconditioner: the diagonal (jacobi) or incomplete Cholesky (ic0)"},
     {"pressure_gradient", offsetof(params, pressure_gradient), {"minimum", "corrected", NULL},
@@ -304,6 +315,8 @@ static const option_entry *find_option(const char *key)
     return NULL;
 }
 
+static size_t choice_count(size_t index);
+
 static int scheme_set(params *p, const char *value, char *message, size_t size)
 {
     for (size_t i = 0; i < SCHEME_COUNT; i++) {
@@ -332,6 +345,12 @@ int params_set_option(params *p, const char *key, const char *value,
         snprintf(message, size, "unknown option \"%s\"", key);
         return MPS2P_ERR_UNKNOWN_KEY;
     }
+    if (e->offset == offsetof(params, pressure_solver) && strcmp(value, "gamg") == 0 &&
+        !linear_solver_have_gamg()) {
+        snprintf(message, size, "option pressure_solver \"gamg\" needs PETSc: this libmps2p "
+                                "was built without it (meson option petsc)");
+        return MPS2P_ERR_INVALID;
+    }
     for (int i = 0; e->names[i]; i++) {
         if (strcmp(value, e->names[i]) == 0) {
             *(int *)((char *)p + e->offset) = i;
@@ -339,7 +358,8 @@ int params_set_option(params *p, const char *key, const char *value,
         }
     }
     char choices[128] = "";
-    for (int i = 0; e->names[i]; i++) {
+    const size_t listed = choice_count((size_t)(e - options));
+    for (size_t i = 0; i < listed; i++) {
         size_t used = strlen(choices);
         snprintf(choices + used, sizeof choices - used, "%s\"%s\"", i ? ", " : "", e->names[i]);
     }
@@ -420,6 +440,8 @@ static size_t choice_count(size_t index)
     size_t n = 0;
     while (options[index].names[n])
         n++;
+    if (options[index].offset == offsetof(params, pressure_solver) && !linear_solver_have_gamg())
+        n--; /* gamg, the last: not in this build */
     return n;
 }
 

@@ -1,7 +1,8 @@
 /* The pressure system's solvers: CHOLMOD (sparse Cholesky) or conjugate
  * gradients, preconditioned by the diagonal (Jacobi) or by an incomplete
- * Cholesky factor with A's own pattern (IC(0)). Neither prints nor aborts:
- * errors come back as status codes with a message. */
+ * Cholesky factor with A's own pattern (IC(0)), or, with option petsc,
+ * PETSc's CG with algebraic multigrid (gamg_solver.c). None prints or
+ * aborts: errors come back as status codes with a message. */
 #include "numerics/numerics.h"
 
 #include <cholmod.h>
@@ -37,6 +38,7 @@ struct linear_solver {
     double *factor_value, *transpose_value, *inverse_pivot;
     size_t factor_capacity, factor_row_capacity;
     double threads; /* parameter threads (team_size) */
+    gamg_solver *gamg; /* kind PRESSURE_SOLVER_GAMG */
 };
 
 /* GSL's default handler aborts the process, and it is process-wide: turn it
@@ -44,18 +46,36 @@ struct linear_solver {
 static pthread_once_t gsl_handler_once = PTHREAD_ONCE_INIT;
 static void gsl_handler_off(void) { gsl_set_error_handler_off(); }
 
-int linear_solver_create(int kind, int preconditioner, double threads, linear_solver **out)
+int linear_solver_have_gamg(void)
+{
+#ifdef MPS2P_HAVE_PETSC
+    return 1;
+#else
+    return 0;
+#endif
+}
+
+int linear_solver_create(int kind, int preconditioner, double threads, linear_solver **out,
+                         char *message, size_t size)
 {
     pthread_once(&gsl_handler_once, gsl_handler_off);
+    if (kind == PRESSURE_SOLVER_GAMG && !linear_solver_have_gamg()) {
+        snprintf(message, size, "pressure_solver gamg: this libmps2p was built without PETSc "
+                                "(meson option petsc)");
+        return MPS2P_ERR_INVALID;
+    }
     linear_solver *ls = calloc(1, sizeof *ls);
-    if (!ls)
+    if (!ls) {
+        snprintf(message, size, "out of memory starting the pressure solver");
         return MPS2P_ERR_NOMEM;
+    }
     ls->kind = kind;
     ls->preconditioner = preconditioner;
     ls->threads = threads;
     if (kind == PRESSURE_SOLVER_CHOLMOD) {
         if (!cholmod_start(&ls->common)) {
             free(ls);
+            snprintf(message, size, "out of memory starting the pressure solver");
             return MPS2P_ERR_NOMEM;
         }
         ls->common.print = 0;            /* never print from a library */
@@ -69,6 +89,15 @@ int linear_solver_create(int kind, int preconditioner, double threads, linear_so
         ls->common.nmethods = 1;
         ls->common.method[0].ordering = CHOLMOD_AMD;
     }
+#ifdef MPS2P_HAVE_PETSC
+    if (kind == PRESSURE_SOLVER_GAMG) {
+        int status = gamg_create(&ls->gamg, message, size);
+        if (status != MPS2P_OK) {
+            free(ls);
+            return status;
+        }
+    }
+#endif
     *out = ls;
     return MPS2P_OK;
 }
@@ -81,6 +110,9 @@ void linear_solver_destroy(linear_solver *ls)
         cholmod_free_factor(&ls->factor, &ls->common);
         cholmod_finish(&ls->common);
     }
+#ifdef MPS2P_HAVE_PETSC
+    gamg_destroy(ls->gamg);
+#endif
     free(ls->pattern_start);
     free(ls->pattern_column);
     free(ls->work);
@@ -111,6 +143,9 @@ size_t linear_solver_memory(const linear_solver *ls)
              2 * ls->factor_capacity * (sizeof(int) + sizeof(double));
     if (ls->kind == PRESSURE_SOLVER_CHOLMOD)
         bytes += ls->common.memory_inuse; /* what CHOLMOD holds, the kept factor too */
+#ifdef MPS2P_HAVE_PETSC
+    bytes += gamg_memory(ls->gamg);
+#endif
     return bytes;
 }
 
@@ -546,10 +581,16 @@ int linear_solver_solve(linear_solver *ls, const sparse_matrix *a, const double 
         snprintf(message, size, "out of memory for solver work space");
         return MPS2P_ERR_NOMEM;
     }
-    int status = ls->kind == PRESSURE_SOLVER_CHOLMOD
-                     ? solve_cholmod(ls, a, b, x, message, size)
-                     : solve_cg(ls, a, b, x, tolerance, max_iterations, iterations,
-                                message, size);
+    int status;
+    if (ls->kind == PRESSURE_SOLVER_CHOLMOD)
+        status = solve_cholmod(ls, a, b, x, message, size);
+#ifdef MPS2P_HAVE_PETSC
+    else if (ls->kind == PRESSURE_SOLVER_GAMG)
+        status = gamg_solve(ls->gamg, a, b, x, tolerance, max_iterations, iterations, message,
+                            size);
+#endif
+    else
+        status = solve_cg(ls, a, b, x, tolerance, max_iterations, iterations, message, size);
     if (status != MPS2P_OK)
         return status;
     *residual = relative_residual(ls, a, b, x);

@@ -136,7 +136,13 @@ static inline neighbour_rows neighbour_rows_within(const neighbour_list *list, d
 
 /* ---- linear solvers (linear_solver.c) ---- */
 
-enum pressure_solver_kind { PRESSURE_SOLVER_CHOLMOD = 0, PRESSURE_SOLVER_CG = 1 };
+/* GAMG: PETSc's CG with algebraic multigrid, only with option petsc
+ * (gamg_solver.c; MPS2P_HAVE_PETSC). */
+enum pressure_solver_kind {
+    PRESSURE_SOLVER_CHOLMOD = 0,
+    PRESSURE_SOLVER_CG = 1,
+    PRESSURE_SOLVER_GAMG = 2
+};
 enum cg_preconditioner_kind { CG_PRECONDITIONER_JACOBI = 0, CG_PRECONDITIONER_IC0 = 1 };
 
 /* A symmetric matrix in compressed rows, full pattern (both triangles). */
@@ -152,9 +158,11 @@ typedef struct sparse_matrix {
 typedef struct linear_solver linear_solver;
 
 /* kind: enum pressure_solver_kind; preconditioner: enum cg_preconditioner_kind
- * (CG only); threads: parameter threads, for CG's loops (team_size). */
+ * (CG only); threads: parameter threads, for CG's loops (team_size). Fails
+ * with a message: MPS2P_ERR_NOMEM, or MPS2P_ERR_INVALID for gamg in a build
+ * without PETSc. */
 int linear_solver_create(int kind, int preconditioner, double threads,
-                         linear_solver **solver);
+                         linear_solver **solver, char *message, size_t size);
 void linear_solver_destroy(linear_solver *solver);
 /* Solves A x = b; x holds the initial guess on entry (used by CG). */
 /* CHOLMOD symbolic analyses so far (a matrix of the last one's pattern reuses it). */
@@ -165,5 +173,20 @@ int linear_solver_solve(linear_solver *solver, const sparse_matrix *a,
                         const double *b, double *x, double tolerance,
                         size_t max_iterations, size_t *iterations,
                         double *residual, char *message, size_t size);
+
+/* 1 when this build has pressure_solver gamg (option petsc). */
+int linear_solver_have_gamg(void);
+
+/* ---- GAMG (gamg_solver.c, only with MPS2P_HAVE_PETSC) ---- */
+
+typedef struct gamg_solver gamg_solver;
+int gamg_create(gamg_solver **solver, char *message, size_t size);
+void gamg_destroy(gamg_solver *solver);
+/* Bytes it holds, with an estimate of the last solve's multigrid hierarchy. */
+size_t gamg_memory(const gamg_solver *solver);
+/* CG + GAMG from the initial guess x to |b - A x| <= tolerance |b|. */
+int gamg_solve(gamg_solver *solver, const sparse_matrix *a, const double *b, double *x,
+               double tolerance, size_t max_iterations, size_t *iterations, char *message,
+               size_t size);
 
 #endif

@@ -215,10 +215,11 @@ int solver_start(mps2p_solver *s)
                         s->params.re_density * s->l0, s->domain) != MPS2P_OK)
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory for the neighbour list");
     s->neighbours.threads = s->params.threads;
+    char message[ERROR_MESSAGE_SIZE];
     int status = linear_solver_create(s->params.pressure_solver, s->params.cg_preconditioner,
-                                      s->params.threads, &s->linear);
+                                      s->params.threads, &s->linear, message, sizeof message);
     if (status != MPS2P_OK)
-        return fail(NULL, status, "out of memory starting the pressure solver");
+        return fail(NULL, status, "%s", message);
     status = effects_decide(s);
     return status == MPS2P_OK ? plan_build(s) : status;
 }

@@ -76,7 +76,9 @@ def test_the_library_lists_its_parameters_options_and_statistics():
     assert lib.mps2p_param_count(count) == lib.MPS2P_OK
     assert len(mps2p.param_info()) == count[0] > 30
     options = mps2p.option_info()
-    assert options["pressure_solver"][:2] == ("cholmod", ("cholmod", "cg"))
+    # gamg is listed only by a build with PETSc (meson option petsc)
+    assert options["pressure_solver"][:2] in [("cholmod", ("cholmod", "cg")),
+                                              ("cholmod", ("cholmod", "cg", "gamg"))]
     assert options["scheme"][:2] == ("corrected", ("corrected", "koshizuka1996"))
     with mps2p.Scene(0.01) as scene:
         for key, (default, choices, description) in options.items():
@@ -87,6 +89,23 @@ def test_the_library_lists_its_parameters_options_and_statistics():
     assert tuple(stats) == mps2p.STAT_KEYS and all(d for d, _ in stats.values())
     assert stats["ppe_unknowns"][1] and not stats["max_speed"][1]
     assert mps2p.COUNT_STATS == {k for k, (_, counts) in stats.items() if counts}
+
+
+def test_gamg_agrees_with_cholmod_or_is_refused_without_petsc():
+    if "gamg" not in mps2p.option_info()["pressure_solver"][1]:
+        with mps2p.Scene(0.02) as scene:
+            with pytest.raises(mps2p.InvalidArgumentError, match="PETSc"):
+                scene.set_option("pressure_solver", "gamg")
+        return
+    pressure = {}
+    for method in ("cholmod", "gamg"):
+        with small_dam_break(pressure_solver=method) as scene, mps2p.Solver(scene) as solver:
+            for _ in range(3):
+                solver.step()
+            pressure[method] = solver.pressure()
+    largest = np.abs(pressure["cholmod"]).max()
+    assert largest > 0
+    assert np.abs(pressure["gamg"] - pressure["cholmod"]).max() <= 1e-6 * largest
 
 
 def test_parameters_default_to_the_c_defaults():
