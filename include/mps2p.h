@@ -270,13 +270,12 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  *   two_phase_model   "two_step_improved" (default; docs/method.md 3), "two_step"
  *                     (Koshizuka's conventional model, docs/method.md 2) or
  *                     "single" (one PPE over every fluid, as without air)
- *   interface_reaction what delta_al = 1 does in two_step_improved: "drift"
- *                     (default, provisional), "volume", "wall", "pair",
- *                     "push", "continuity"; docs/two-phase.md (none meets
- *                     issue 9 yet)
- * Two-phase parameters (light_fraction, sector_scan_walls, join_enclosed,
- * join_hold, join_ramp_time, bubble_added_mass, bubble_rise_velocity,
- * bubble_relaxation_time, drift_liquid_gradient, drift_without_gravity,
+ *   interface_reaction what delta_al = 1 does in two_step_improved: "drift",
+ *                     the one form left (the bubble drift closure; the
+ *                     others' record is in docs/two-phase.md)
+ * Two-phase parameters (light_fraction, trigger_speed, sector_scan_walls,
+ * join_bubbles, join_enclosed, join_hold, join_ramp_time, bubble_rise_velocity,
+ * bubble_relaxation_time, drift_without_gravity,
  * gas_liquid_volume, gas_correction_limit, gas_cg_tolerance,
  * gas_pressure_limit): mps2p_param_info, docs/two-phase.md.
  * Water at rest stays still with the default scheme; Koshizuka and Oka's

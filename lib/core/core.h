@@ -112,16 +112,10 @@ enum two_phase_model_kind {
     TWO_PHASE_TWO_STEP = 1, /* two_step: Koshizuka's conventional model */
     TWO_PHASE_SINGLE = 2    /* single: one PPE over every fluid */
 };
-/* What delta_al = 1 does (two_phase/interface_reaction.c; its forms are branches
- * there and in the two-phase stages only). */
+/* What delta_al = 1 does (two_phase/interface_reaction.c). The forms that lost
+ * (volume, wall, pair, push, continuity) are in docs/two-phase.md's record. */
 enum interface_reaction_kind {
-    REACTION_VOLUME = 0, /* joins the liquid solve, moved by -grad p_l / rho_eff */
-    REACTION_WALL = 1,   /* joins the liquid solve as a moving wall, moved by its gas pressure */
-    REACTION_PAIR = 2,   /* momentum-conserving pair reaction of its gas pressure */
-    REACTION_PUSH = 3,   /* its gas pressure pushes the liquid, eq. (5) read literally */
-    REACTION_DRIFT = 4,  /* joins the liquid solve, moves with the liquid plus a rise velocity */
-    REACTION_CONTINUITY = 5 /* gas solve with the liquid's pressure on liquid particles,
-                               bounded gas density in liquid, pair reaction when triggered */
+    REACTION_DRIFT = 0 /* joins the liquid solve, moves with the liquid plus a rise velocity */
 };
 
 /* Physical effects (effects.c); each is switched by option "effect.<name>". */
@@ -163,11 +157,9 @@ typedef struct params {
     double join_enclosed;      /* 1 = enclosed light particles join as triggered ones */
     double trigger_speed;      /* scan threshold, in sqrt(|g| l0) */
     double join_bubbles;       /* 1 = gas cut off from the gas's free surface joins */
-    double bubble_added_mass;  /* C_m of the volume reaction */
     double gas_pressure_limit; /* Pa; 0 = derived */
     double bubble_rise_velocity; /* m/s, slip of a joined light particle (drift) */
     double bubble_relaxation_time; /* s, of the slip toward the rise velocity (drift) */
-    double drift_liquid_gradient;  /* 1 = drift particles corrected by the liquid pressure */
     double join_ramp_time;     /* s, ramp of a joining particle's weight; 0 = at once */
     double excitation_acceleration; /* amplitude of the tank's horizontal acceleration */
     double excitation_period;

@@ -85,15 +85,10 @@ static const param_entry table[] = {
      "neighbours within re_density: an enclosed bubble) react as triggered ones"},
     {"join_enclosed", FIELD(join_enclosed), 1.0, 0.0, 1.0,
      "1 = light particles with heavy ones in all 8 sectors react as triggered ones"},
-    {"bubble_added_mass", FIELD(bubble_added_mass), 1.0, 0.0, 1e6,
-     "added-mass coefficient C_m of a light particle in the liquid (2D cylinder: 1)"},
     {"bubble_rise_velocity", FIELD(bubble_rise_velocity), 0.2, 0.0, 100.0,
      "rise velocity of a joined light particle relative to the liquid, m/s (drift)"},
     {"bubble_relaxation_time", FIELD(bubble_relaxation_time), 0.02, 1e-9, 1e6,
      "relaxation time of a joined light particle's slip toward the rise velocity, s (drift)"},
-    {"drift_liquid_gradient", FIELD(drift_liquid_gradient), 1.0, 0.0, 1.0,
-     "1 = a drift particle is corrected by the liquid pressure (as liquid), 0 = by its gas "
-     "pressure"},
     {"join_ramp_time", FIELD(join_ramp_time), 0.0, 0.0, 1e6,
      "time over which a joining light particle's weight in the liquid number density ramps "
      "0 to 1, s"},
@@ -191,8 +186,7 @@ void params_set_defaults(params *p)
     scheme_apply(p, &schemes[0]);
     p->free_surface = FREE_SURFACE_NUMBER_DENSITY;
     p->two_phase_model = TWO_PHASE_IMPROVED;
-    /* Provisional (docs/two-phase.md): the form that ran longest on the
-     * paper's case; none of the forms meets issue 9 yet. */
+    /* the one form left: the ladder's (docs/two-phase.md) */
     p->interface_reaction = REACTION_DRIFT;
     for (int e = 0; e < EFFECT_COUNT; e++)
         p->effect_mode[e] = EFFECT_AUTO;
@@ -221,7 +215,7 @@ int params_set(params *p, const char *key, double value, char *message, size_t s
     }
     static const char *const switches[] = {"clamp_negative_pressure", "sector_scan_walls",
                                            "join_enclosed", "join_hold",
-                                           "drift_liquid_gradient"};
+                                           "join_bubbles"};
     for (size_t i = 0; i < sizeof switches / sizeof switches[0]; i++) {
         if (strcmp(key, switches[i]) == 0 && value != 0.0 && value != 1.0) {
             snprintf(message, size, "parameter %s must be 0 or 1, got %g", key, value);
@@ -290,8 +284,9 @@ static const option_entry options[] = {
      "two phases: the improved model, Koshizuka's conventional two-step model, or one PPE "
      "over every fluid"},
     {"interface_reaction", offsetof(params, interface_reaction),
-     {"volume", "wall", "pair", "push", "drift", "continuity", NULL},
-     "what delta_al = 1 does in two_step_improved (docs/two-phase.md)"},
+     {"drift", NULL},
+     "what delta_al = 1 does in two_step_improved: the bubble drift closure, the one form "
+     "left (docs/two-phase.md has the others' record)"},
 #define EFFECT_OPTION(key, effect)                                                         \
     {key, offsetof(params, effect_mode) + (effect) * sizeof(int), {"auto", "on", "off", NULL}, \
      EFFECT_CHOICES}

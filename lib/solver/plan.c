@@ -69,8 +69,7 @@ static const stage stages[] = {
     {"gas_pressure", EFFECT_TWO_PHASE, NULL, gas_pressure_solve, 0, 0},
     {"correction", -1, single_phase, pressure_correct, 0, 0},
     {"two_phase_correction", EFFECT_TWO_PHASE, NULL, phases_correct, 0, 0},
-    {"interface_drift", EFFECT_INTERFACE_REACTION, interface_drift_wanted,
-     interface_drift_apply, 0, 0},
+    {"interface_drift", EFFECT_INTERFACE_REACTION, NULL, interface_drift_apply, 0, 0},
     {"gas_divergence_check", EFFECT_TWO_PHASE, NULL, phases_divergence_check, 0, 0},
     {"divergence_check", -1, NULL, divergence_check, 0, 0},
 };

@@ -107,14 +107,8 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
      * scale with 1/dt^2, and a tiny step would otherwise press the whole
      * density error out in no time, with a pressure 1/dt^2 too large. */
     dt = fmax(dt, s->ppe_min_dt);
-    double re = s->params.re_laplacian * s->l0;
-    double c = 2.0 * 2 / (s->lambda * s->n0_laplacian);
-    if (sys->re_in_l0 > 0.0) { /* a system of its own radius (gas_pressure.c) */
-        double n0, lambda;
-        lattice_constants(s->l0, sys->re_in_l0, &n0, &lambda);
-        re = sys->re_in_l0 * s->l0;
-        c = 2.0 * 2 / (lambda * n0);
-    }
+    const double re = s->params.re_laplacian * s->l0;
+    const double c = 2.0 * 2 / (s->lambda * s->n0_laplacian);
     const neighbour_list *nl = &s->neighbours;
     const double *position = s->state.position;
     double *pressure = sys->pressure;
@@ -191,7 +185,7 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
             continue;
         int next = m->row_start[row];
         int diagonal_at = -1;
-        double dirichlet_sum = 0.0, ghost_sum = 0.0;
+        double ghost_sum = 0.0;
         double diagonal = sys->density[i] * s->params.compressibility / (dt * dt);
         for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
             size_t j = nl->index[k];
@@ -211,11 +205,8 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
                 continue;
             double w = in_range ? kernel_weight(sqrt(dx * dx + dy * dy), re) : 0.0;
             diagonal += c * w;
-            if (s->unknown_of[j] < 0) {
-                if (sys->dirichlet)
-                    dirichlet_sum += c * w * sys->dirichlet[j];
+            if (s->unknown_of[j] < 0)
                 continue;
-            }
             if (diagonal_at < 0 && j > i)
                 diagonal_at = next++; /* keep columns sorted */
             m->column[next] = (int)s->unknown_of[j];
@@ -227,8 +218,6 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
         m->column[diagonal_at] = (int)row;
         m->value[diagonal_at] = diagonal;
         s->rhs[row] = source_term(s, sys, i, dt);
-        if (sys->dirichlet) /* only then: adding 0 would turn a -0 source into +0 */
-            s->rhs[row] += dirichlet_sum;
         if (ghosts)
             s->rhs[row] += ghost_sum;
         s->solution[row] = pressure[i]; /* warm start for CG */
@@ -264,8 +253,7 @@ int pressure_solve_system(mps2p_solver *s, ppe_system *sys)
     int clamp = s->params.clamp_negative_pressure != 0.0;
     PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
-        double p = s->unknown_of[i] >= 0 ? s->solution[s->unknown_of[i]]
-                   : (sys->dirichlet && takes_part(s, sys, i)) ? sys->dirichlet[i] : 0.0;
+        double p = s->unknown_of[i] >= 0 ? s->solution[s->unknown_of[i]] : 0.0;
         pressure[i] = (clamp && p < 0.0) ? 0.0 : p;
     });
     return MPS2P_OK;

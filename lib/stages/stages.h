@@ -100,8 +100,6 @@ typedef struct ppe_system {
     const double *n_star, *n_start, *density;
     double *pressure;
     double tolerance;           /* CG tolerance; 0 = cg_tolerance */
-    const double *dirichlet;    /* values of participants that are not unknowns; NULL = 0 */
-    double re_in_l0;            /* Laplacian radius of this system; 0 = re_laplacian */
     int hydrostatic_ghosts;     /* dummies and dry walls as ghosts (option wall_ghosts) */
     int density_source;         /* Koshizuka's source gamma (n* - n0) whatever ppe_source */
     size_t unknowns, iterations;

@@ -49,19 +49,9 @@ int gas_pressure_solve(mps2p_solver *s, double dt)
     two_phase *tp = s->phases;
     const double threshold = s->params.beta * s->n0_density;
     const double *n_gas = gas_number_density(s);
-    /* continuity: liquid particles are Dirichlet points holding the liquid's
-     * pressure (pressure continuity across the interface); the gas's free
-     * surface stays at 0. */
-    const int continuity = s->params.interface_reaction == REACTION_CONTINUITY && tp->improved;
     for (size_t i = 0; i < s->count; i++) {
         tp->gas_part[i] = s->kind[i] != MPS2P_KIND_DUMMY;
-        /* liquid particles, and walls holding a liquid pressure (they face
-         * the liquid), take the liquid's value */
-        int liquid = continuity && !tp->light[i] && tp->heavy_part[i] &&
-                     (s->kind[i] == MPS2P_KIND_FLUID || !tp->heavy_surface[i]);
-        tp->gas_surface[i] = tp->gas_part[i] && (liquid || n_gas[i] < threshold);
-        if (continuity)
-            tp->gas_dirichlet[i] = liquid ? tp->heavy_pressure[i] : 0.0;
+        tp->gas_surface[i] = tp->gas_part[i] && n_gas[i] < threshold;
     }
     ppe_system gas = {.part = tp->gas_part,
                       .surface = tp->gas_surface,
@@ -70,11 +60,6 @@ int gas_pressure_solve(mps2p_solver *s, double dt)
                       .density = tp->gas_rho,
                       .pressure = tp->gas_pressure,
                       .tolerance = s->params.gas_cg_tolerance,
-                      .dirichlet = continuity ? tp->gas_dirichlet : NULL,
-                      /* continuity: the liquid's pressure reaches only gas
-                       * particles with a liquid neighbour within re_density,
-                       * those whose inertia is bounded (correction.c) */
-                      .re_in_l0 = continuity ? s->params.re_density : 0.0,
                       /* n* is the liquid-weighted gas_n, n^k the plain number
                        * density: their difference (the ecs and mixed sources)
                        * is not the gas's compression */

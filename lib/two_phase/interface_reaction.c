@@ -26,21 +26,16 @@
  * third rung), or, with join_hold, when it reacted in the step before and
  * is still inside the liquid.
  *
- * Reaction (option interface_reaction), the discrete form of delta_al
- * (-grad p)_a in eq. (5), which the paper leaves open:
- *   volume  the particle joins the liquid PPE as liquid volume (counts in the
- *           liquid's number density, an unknown with the liquid's density in
- *           its source: the liquid cannot close in on it), takes the liquid
- *           pressure at its place (pressure continuity) and is moved by
- *           -grad p_l / rho_eff with the added-mass density (correction.c), which
- *           gives it buoyancy; for the gas solve it is a wall;
- *   wall    joins the liquid PPE in the same way, but stays moved by its gas
- *           pressure (a moving wall for the liquid; no buoyancy);
- *   pair    stays out of the liquid PPE; each liquid neighbour j receives the
- *           opposite of the pair force particle i got from j in the gas
- *           gradient (momentum-conserving);
- *   push    stays out; the particle's gas pressure pushes each liquid
- *           neighbour away with the liquid's density (eq. 5 literally). */
+ * Reaction (option interface_reaction, one form: drift), the discrete form
+ * of delta_al (-grad p)_a in eq. (5), which the paper leaves open: the
+ * particle joins the liquid PPE as liquid volume (it counts in the liquid's
+ * number density, an unknown with the liquid's density in its source: the
+ * liquid cannot close in on it), is moved by the liquid's pressure like the
+ * liquid (correction.c), then its velocity relaxes toward the liquid's around
+ * it plus a rise velocity (interface_drift_apply). The forms that lost
+ * (volume, wall, pair, push, continuity) and their measurements:
+ * docs/two-phase.md.
+ */
 #include "numerics/numerics.h"
 #include "core/core.h"
 #include "stages/stages.h"
@@ -169,48 +164,6 @@ int interface_join(mps2p_solver *s, double dt)
     }
     tp->joined_count = joined;
     return MPS2P_OK;
-}
-
-void interface_reaction_apply(mps2p_solver *s, double dt, double *change)
-{
-    two_phase *tp = s->phases;
-    const int kind = s->params.interface_reaction;
-    if (kind != REACTION_PAIR && kind != REACTION_PUSH && kind != REACTION_CONTINUITY)
-        return;
-    const double re = s->params.re_density * s->l0, re2 = re * re;
-    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
-    const double *r = s->state.position, *p = tp->gas_pressure;
-    const double factor = 2.0 / s->n0_density;
-    for (size_t i = 0; i < s->count; i++) {
-        if (!tp->light[i] || !tp->joined[i])
-            continue;
-        double reference = minimum_masked_around(s, i, p, tp->gas_part);
-        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
-            size_t j = nl.index[k];
-            if (s->kind[j] != MPS2P_KIND_FLUID || tp->light[j])
-                continue;
-            double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
-            double d2 = dx * dx + dy * dy;
-            if (d2 >= re2 || d2 <= 0.0)
-                continue;
-            double w = kernel_weight(sqrt(d2), re) / d2;
-            /* pair: j gets minus the momentum i got from the pair (p_j - p^_i);
-             * push: j is pushed away by i's gas pressure. */
-            double difference = kind == REACTION_PUSH ? fmax(p[i], 0.0) : p[j] - reference;
-            /* continuity: i moved with its bounded density, so the pair's
-             * momentum is rho_i times i's change; here the gas density (the
-             * mass the particle really has) is used, as in pair. */
-            double dv = dt * tp->light_density / s->density[j] *
-                        factor * difference * w / tp->light_density;
-            change[2 * j] += dv * dx;
-            change[2 * j + 1] += dv * dy;
-        }
-    }
-}
-
-int interface_drift_wanted(const mps2p_solver *s)
-{
-    return s->params.interface_reaction == REACTION_DRIFT;
 }
 
 /* Drift reaction, after the correction: a drift-flux closure. A joined light

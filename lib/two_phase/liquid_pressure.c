@@ -72,14 +72,6 @@ static void start_density_follows_join(mps2p_solver *s, const double *old_weight
     }
 }
 
-static int joins_liquid_solve(const mps2p_solver *s, size_t i)
-{
-    const two_phase *tp = s->phases;
-    return tp->joined[i] && (s->params.interface_reaction == REACTION_VOLUME ||
-                             s->params.interface_reaction == REACTION_WALL ||
-                             s->params.interface_reaction == REACTION_DRIFT);
-}
-
 /* The liquid PPE: light particles ignored unless joined, liquid touching the
  * gas is free surface. Requires number_density (all particles) at r* and the
  * sector scan (and the join, with the interface reaction). */
@@ -97,7 +89,7 @@ int liquid_pressure_solve(mps2p_solver *s, double dt)
     for (size_t i = 0; i < s->count; i++) {
         if (!tp->light[i])
             continue;
-        double target = joins_liquid_solve(s, i) ? 1.0 : 0.0;
+        double target = tp->joined[i] ? 1.0 : 0.0;
         tp->join_weight[i] = target > tp->join_weight[i]
                                  ? fmin(target, tp->join_weight[i] + ramp)
                                  : fmax(target, tp->join_weight[i] - ramp);

@@ -2,8 +2,8 @@
  * their state and its table (state.c), their stages (liquid_pressure.c,
  * interface_reaction.c, gas_pressure.c, correction.c, divergence.c), their
  * statistics (stats.c) and what they change in two single-phase stages
- * (collision_rule.c; the viscosity mask is set in state.c). The forms of
- * the interface reaction (option interface_reaction) live here only. */
+ * (collision_rule.c; the viscosity mask is set in state.c). The interface
+ * reaction (option interface_reaction) lives here only. */
 #ifndef MPS2P_TWO_PHASE_H
 #define MPS2P_TWO_PHASE_H
 
@@ -30,7 +30,6 @@ typedef struct two_phase {
     unsigned char *heavy_surface, *gas_surface;
     double *heavy_n, *heavy_n_start; /* number density the liquid sees */
     double *heavy_pressure, *gas_pressure;
-    double *gas_dirichlet;      /* liquid pressure on liquid particles (continuity) */
     double *gas_n;              /* number density the gas solve sees */
     double *heavy_n_initial;    /* the liquid's number density at the first step */
     int have_initial;
@@ -79,8 +78,6 @@ int liquid_pressure_solve(mps2p_solver *s, double dt); /* liquid_pressure.c */
 /* The gas PPE, then the state's pressure per phase (phases_pressure_combine). */
 int gas_pressure_solve(mps2p_solver *s, double dt);    /* gas_pressure.c */
 int phases_correct(mps2p_solver *s, double dt);        /* correction.c: per phase, plus reaction */
-/* Stage interface_drift is in the step with the drift form only. */
-int interface_drift_wanted(const mps2p_solver *s);     /* interface_reaction.c */
 int interface_drift_apply(mps2p_solver *s, double dt); /* interface_reaction.c */
 int phases_divergence_check(mps2p_solver *s, double dt); /* divergence.c */
 
@@ -91,8 +88,6 @@ double phases_collision_share(const mps2p_solver *s, size_t i, size_t j);
 void phases_pressure_combine(mps2p_solver *s);         /* gas_pressure.c */
 /* A light particle moved by the liquid's pressure (correction.c). */
 int moves_with_liquid(const mps2p_solver *s, size_t i);
-/* The reaction of the forms pair, push and continuity on the correction. */
-void interface_reaction_apply(mps2p_solver *s, double dt, double *change);
 size_t gas_in_liquid_count(const mps2p_solver *s);     /* gas_in_liquid.c */
 /* A light particle with more heavy-fluid than light-fluid neighbours within re. */
 int more_liquid_than_light_neighbours(const mps2p_solver *s, size_t i);

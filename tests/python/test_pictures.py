@@ -3,6 +3,7 @@
 experiment on the front, t = 0 in every snapshot picture, and each fluid
 with its own colour scale."""
 import os
+import re
 
 import pytest
 
@@ -82,8 +83,9 @@ def test_dam_break_pictures(figures, tmp_path):
 
 def test_two_fluid_pictures_tell_them_apart(figures, tmp_path):
     text = open(os.path.join(SCENES, "ikari2003_dam_break_air.toml")).read()
-    text = text.replace("l0 = 0.01", "l0 = 0.02").replace(
-        "picture_times = [0.1, 0.2, 0.3, 0.4, 0.6, 1.0]", "picture_times = [0.01, 0.5]")
+    assert "l0 = 0.01\n" in text and text.count("picture_times = [") == 1
+    text = re.sub(r"picture_times = \[[^\]]*\]", "picture_times = [0.01, 0.5]",
+                  text.replace("l0 = 0.01\n", "l0 = 0.02\n"))
     scene = tmp_path / "air.toml"
     scene.write_text(text)
     out = tmp_path / "out"
