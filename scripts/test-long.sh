@@ -15,6 +15,6 @@ meson test -C build-release --suite long --print-errorlogs
 export MPS2P_LIBRARY="$PWD/build-release/lib/libmps2p.so.0"
 export PYTHONPATH="$PWD/bindings/python${PYTHONPATH:+:$PYTHONPATH}"
 python3 examples/validation.py all --out out/validation
-# the two-phase ladder's long rungs (docs/two-phase.md): still water under air for 10 s
+# the two-phase ladder's tests (docs/two-phase.md), rung 1 for 10 s
 MPS2P_LONG=1 MPS2P_HEADER="$PWD/include/mps2p.h" python3 -m pytest -q -p no:cacheprovider \
     tests/python/test_two_phase_ladder.py

@@ -85,14 +85,15 @@ int h5_read_parameters(h5_context *ctx, hid_t file, params *out)
             H5Aexists(group, key) == 0)
             continue;
         /* files from before the corrected scheme: no gravity limit on dt, the
-         * collision impulse in full every step; from before trigger_speed:
-         * the paper's trigger */
-        if ((strcmp(key, "gravity_number") == 0 || strcmp(key, "collision_time") == 0 ||
-             strcmp(key, "trigger_speed") == 0) &&
-            H5Aexists(group, key) == 0) {
-            *(strcmp(key, "gravity_number") == 0   ? &out->gravity_number
-              : strcmp(key, "collision_time") == 0 ? &out->collision_time
-                                                   : &out->trigger_speed) = 0.0;
+         * collision impulse in full every step; from before the two-phase
+         * ladder: the paper's trigger, no whole bubbles joining */
+        double *before = strcmp(key, "gravity_number") == 0   ? &out->gravity_number
+                         : strcmp(key, "collision_time") == 0 ? &out->collision_time
+                         : strcmp(key, "trigger_speed") == 0  ? &out->trigger_speed
+                         : strcmp(key, "join_bubbles") == 0   ? &out->join_bubbles
+                                                              : NULL;
+        if (before && H5Aexists(group, key) == 0) {
+            *before = 0.0;
             continue;
         }
         status = h5_read_attribute(ctx, group, key, H5T_NATIVE_DOUBLE, 1, &value);

@@ -20,7 +20,10 @@ int moves_with_liquid(const mps2p_solver *s, size_t i)
  *     walls and dummies as ghosts with wall_ghosts): a liquid under air is
  *     as quiet as one alone (docs/two-phase.md, the ladder's first rung);
  *   drift bubble (a joined light particle): as the liquid, with the
- *     liquid's density, then the slip of stage interface_drift; moved by
+ *     liquid's density, then the slip of stage interface_drift (its dry-wall
+ *     ghosts take its own density, rho_a, where the liquid's PPE gave its
+ *     row rho_l: inconsistent, but the consistent choice made the 8 x 8
+ *     bubble diverge at 0.18 s; docs/two-phase.md); moved by
  *     its own gas pressure instead (rho_a), it is pushed about by the gas
  *     and does not rise (the ladder's third rung);
  *   light particle moved by the gas: Koshizuka and Oka's gradient of the gas

@@ -83,6 +83,7 @@ static const field two_phase_rows[] = {
     FIELD(gas_unknowns, FIELD_SIZE, CARRIED),
     FIELD(gas_iterations, FIELD_SIZE, CARRIED),
     FIELD(capped_count, FIELD_SIZE, CARRIED | FIELD_OPTIONAL),
+    FIELD(bubble_count, FIELD_SIZE, CARRIED | FIELD_OPTIONAL),
 };
 
 const field_table two_phase_fields = {two_phase_rows,
@@ -146,13 +147,15 @@ int phases_carried_check(const mps2p_solver *s, char *why, size_t size)
              isfinite(tp->gas_pressure_limit) && tp->gas_pressure_limit > 0.0 &&
              (any_pressure || isfinite(tp->gas_pressure_max)) && tp->gas_pressure_max >= 0.0 &&
              tp->triggered_count <= n && tp->enclosed_count <= n && tp->joined_count <= n &&
-             tp->heavy_unknowns <= n && tp->gas_unknowns <= n;
+             tp->capped_count <= n && tp->bubble_count <= n && tp->heavy_unknowns <= n &&
+             tp->gas_unknowns <= n;
     if (!ok) {
         snprintf(why, size, "inconsistent two-phase values (have_initial %d, gas pressure limit "
-                 "%g Pa, gas pressure max %g Pa, counts %zu, %zu, %zu, unknowns %zu, %zu of "
-                 "%zu particles)", tp->have_initial, tp->gas_pressure_limit,
+                 "%g Pa, gas pressure max %g Pa, counts %zu, %zu, %zu, %zu, %zu, unknowns %zu, "
+                 "%zu of %zu particles)", tp->have_initial, tp->gas_pressure_limit,
                  tp->gas_pressure_max, tp->triggered_count, tp->enclosed_count,
-                 tp->joined_count, tp->heavy_unknowns, tp->gas_unknowns, n);
+                 tp->joined_count, tp->capped_count, tp->bubble_count, tp->heavy_unknowns,
+                 tp->gas_unknowns, n);
         return -1;
     }
     return 0;

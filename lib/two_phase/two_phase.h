@@ -77,7 +77,7 @@ int interface_join(mps2p_solver *s, double dt);        /* interface_reaction.c *
 int liquid_pressure_solve(mps2p_solver *s, double dt); /* liquid_pressure.c */
 /* The gas PPE, then the state's pressure per phase (phases_pressure_combine). */
 int gas_pressure_solve(mps2p_solver *s, double dt);    /* gas_pressure.c */
-int phases_correct(mps2p_solver *s, double dt);        /* correction.c: per phase, plus reaction */
+int phases_correct(mps2p_solver *s, double dt);        /* correction.c: per phase */
 int interface_drift_apply(mps2p_solver *s, double dt); /* interface_reaction.c */
 int phases_divergence_check(mps2p_solver *s, double dt); /* divergence.c */
 

@@ -44,6 +44,6 @@ def test_bubble_rises_out(name):
     m = ladder.bubble_rise(name, until=2.0)
     assert m["status"] == "ran", m
     assert m["all_out_at"] is not None and m["left_in_water"] == 0, m
-    assert 0.5 < m["rise_ratio"] < 2.0, m
+    assert m["rise_ratio"] is not None and 0.5 < m["rise_ratio"] < 2.0, m
     assert m["most_outside_tank"] == 0, m
     assert m["surface_deviation_at_end"] < 1.5, m

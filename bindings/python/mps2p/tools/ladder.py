@@ -141,7 +141,7 @@ def droplet_in_air(path=None, sample_every=0.005):
 def bubble_rise(name, until=2.0, sample_every=0.01, path=None):
     """Rung 3: the bubble's particles (air below the water surface at the
     start) in the water over time, when the last one left, their mean rise
-    speed while all were in the water, against 0.5 sqrt(g R) (R the
+    speed until the first of them left the water, against 0.5 sqrt(g R) (R the
     equivalent radius), the water's RMS speed at the end and how flat the
     surface is then (the largest distance of a column's top from their
     mean, in l0), and the most fluid particles outside the tank at a sample."""
@@ -158,6 +158,7 @@ def bubble_rise(name, until=2.0, sample_every=0.01, path=None):
         y_start = r0[bubble, 1].mean()
         radius = math.sqrt(len(bubble) * sf.l0 ** 2 / math.pi)
         in_water, all_out_at, rise, most_outside = [], None, None, 0
+        whole = True
         status = "ran"
         steps = int(round(until / sample_every))
         for k in range(1, steps + 1):
@@ -171,8 +172,10 @@ def bubble_rise(name, until=2.0, sample_every=0.01, path=None):
             most_outside = max(most_outside, outside_tank(sf, r, kinds == 0))
             inside = below_surface(r, water, bubble, sf.l0)
             in_water.append((round(t, 6), inside))
-            if inside == len(bubble):
+            if inside == len(bubble) and whole:
                 rise = (r[bubble, 1].mean() - y_start) / t
+            else:
+                whole = False  # the rise is measured until the first particle leaves
             if inside == 0 and all_out_at is None:
                 all_out_at = t
         water_rms = _rms(s.velocities(), water)
