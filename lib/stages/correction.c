@@ -40,7 +40,6 @@ void pressure_gradient_at(const mps2p_solver *s, size_t i, const double *pressur
 
 int pressure_correct(mps2p_solver *s, double dt)
 {
-    double *position = s->state.position, *velocity = s->state.velocity;
     const double *pressure = s->state.pressure;
     double *change = s->scratch;
     PARALLEL_FOR(s->params.threads, schedule(static),
@@ -54,6 +53,13 @@ int pressure_correct(mps2p_solver *s, double dt)
         du[0] = -dt / s->density[i] * gradient[0];
         du[1] = -dt / s->density[i] * gradient[1];
     });
+    correction_apply(s, change, dt);
+    return MPS2P_OK;
+}
+
+void correction_apply(mps2p_solver *s, const double *change, double dt)
+{
+    double *position = s->state.position, *velocity = s->state.velocity;
     PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         if (s->kind[i] != MPS2P_KIND_FLUID)
@@ -63,5 +69,4 @@ int pressure_correct(mps2p_solver *s, double dt)
         position[2 * i] += dt * change[2 * i];
         position[2 * i + 1] += dt * change[2 * i + 1];
     });
-    return MPS2P_OK;
 }

@@ -12,41 +12,12 @@ void gradient_at(const mps2p_solver *s, size_t i, const double *field, double re
 }
 
 /* The gradient of f_j = field[stride * j + offset] with the given reference,
- * over non-dummy neighbours (those of mask, when given) within re_density. */
+ * over non-dummy neighbours (those of mask, when given) within re_density;
+ * with ghosts (a PPE's surface flags), a hydrostatic ghost j contributes
+ * rho_i g . r_ij instead of f_j - reference. */
 static void gradient_core(const mps2p_solver *s, size_t i, const double *field, size_t stride,
                           size_t offset, double reference, const unsigned char *mask,
-                          double out[2])
-{
-    const double re = s->params.re_density * s->l0, re2 = re * re;
-    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
-    const double *position = s->state.position;
-    double gx = 0.0, gy = 0.0;
-    for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
-        size_t j = nl.index[k];
-        if (s->kind[j] == MPS2P_KIND_DUMMY || (mask && !mask[j]))
-            continue;
-        double dx = position[2 * j] - position[2 * i];
-        double dy = position[2 * j + 1] - position[2 * i + 1];
-        double r2 = dx * dx + dy * dy;
-        if (r2 >= re2 || r2 <= 0.0)
-            continue;
-        double f = (field[stride * j + offset] - reference) / r2 * kernel_weight(sqrt(r2), re);
-        gx += f * dx;
-        gy += f * dy;
-    }
-    out[0] = 2.0 / s->n0_density * gx;
-    out[1] = 2.0 / s->n0_density * gy;
-}
-
-void gradient_masked_at(const mps2p_solver *s, size_t i, const double *field, double reference,
-                        const unsigned char *mask, double out[2])
-{
-    gradient_core(s, i, field, 1, 0, reference, mask, out);
-}
-
-void gradient_with_ghosts_at(const mps2p_solver *s, size_t i, const double *pressure,
-                             const unsigned char *mask, const unsigned char *surface,
-                             double out[2])
+                          const unsigned char *ghosts, double out[2])
 {
     const double re = s->params.re_density * s->l0, re2 = re * re;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
@@ -63,15 +34,28 @@ void gradient_with_ghosts_at(const mps2p_solver *s, size_t i, const double *pres
         double r2 = dx * dx + dy * dy;
         if (r2 >= re2 || r2 <= 0.0)
             continue;
-        double difference = is_hydrostatic_ghost(s, surface, j)
+        double difference = ghosts && is_hydrostatic_ghost(s, ghosts, j)
                                  ? hx * dx + hy * dy
-                                 : pressure[j] - pressure[i];
+                                 : field[stride * j + offset] - reference;
         double f = difference / r2 * kernel_weight(sqrt(r2), re);
         gx += f * dx;
         gy += f * dy;
     }
     out[0] = 2.0 / s->n0_density * gx;
     out[1] = 2.0 / s->n0_density * gy;
+}
+
+void gradient_masked_at(const mps2p_solver *s, size_t i, const double *field, double reference,
+                        const unsigned char *mask, double out[2])
+{
+    gradient_core(s, i, field, 1, 0, reference, mask, NULL, out);
+}
+
+void gradient_with_ghosts_at(const mps2p_solver *s, size_t i, const double *pressure,
+                             const unsigned char *mask, const unsigned char *surface,
+                             double out[2])
+{
+    gradient_core(s, i, pressure, 1, 0, pressure[i], mask, surface, out);
 }
 
 int corrective_matrix_at(const mps2p_solver *s, size_t i, const unsigned char *mask,
@@ -114,7 +98,7 @@ int corrective_matrix_at(const mps2p_solver *s, size_t i, const unsigned char *m
 void gradient_at_component(const mps2p_solver *s, size_t i, const double *field, int c,
                            double out[2])
 {
-    gradient_core(s, i, field, 2, (size_t)c, field[2 * i + (size_t)c], NULL, out);
+    gradient_core(s, i, field, 2, (size_t)c, field[2 * i + (size_t)c], NULL, NULL, out);
 }
 
 double minimum_around(const mps2p_solver *s, size_t i, const double *field)

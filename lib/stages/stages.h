@@ -58,6 +58,10 @@ void pressure_gradient_at(const mps2p_solver *s, size_t i, const double *pressur
                           const unsigned char *mask, const unsigned char *surface,
                           double gradient[2]);
 
+/* u += du, r += dt du for every fluid particle, du = change (correction.c):
+ * the single phase's and the two phases' corrections end with it. */
+void correction_apply(mps2p_solver *s, const double *change, double dt);
+
 /* ---- the time step (timestep.c) ---- */
 
 double timestep_choose(const mps2p_solver *s);

@@ -32,7 +32,6 @@ int moves_with_liquid(const mps2p_solver *s, size_t i)
 int phases_correct(mps2p_solver *s, double dt)
 {
     two_phase *tp = s->phases;
-    double *position = s->state.position, *velocity = s->state.velocity;
     double *change = s->scratch;
     /* the improved model's guard; the conventional model is the paper's */
     const double cap = tp->improved ? s->params.gas_correction_limit * s->l0 / dt : 0.0;
@@ -67,13 +66,6 @@ int phases_correct(mps2p_solver *s, double dt)
         }
     }
     tp->capped_count = capped;
-    for (size_t i = 0; i < s->count; i++) {
-        if (s->kind[i] != MPS2P_KIND_FLUID)
-            continue;
-        velocity[2 * i] += change[2 * i];
-        velocity[2 * i + 1] += change[2 * i + 1];
-        position[2 * i] += dt * change[2 * i];
-        position[2 * i + 1] += dt * change[2 * i + 1];
-    }
+    correction_apply(s, change, dt);
     return MPS2P_OK;
 }
