@@ -267,6 +267,11 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  *                     gas PPE; docs/two-phase.md, a PROTOTYPE)
  *   effect.interface_reaction  "auto": on with two_phase and
  *                     two_phase_model "two_step_improved"
+ *   effect.gas_buffer "auto": on with two_phase, gravity and
+ *                     gas_buffer_depth > 0: the gas's top boundary, a layer
+ *                     under the gas's top at the first step where the gas's
+ *                     velocity is damped (gas_buffer_depth, gas_buffer_rate);
+ *                     "off": an open top (docs/two-phase.md, rung 6)
  *   two_phase_model   "two_step_improved" (default; docs/method.md 3), "two_step"
  *                     (Koshizuka's conventional model, docs/method.md 2) or
  *                     "single" (one PPE over every fluid, as without air)
@@ -277,7 +282,8 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  * join_bubbles, join_enclosed, join_hold, join_ramp_time, bubble_rise_velocity,
  * bubble_relaxation_time, drift_without_gravity,
  * gas_liquid_volume, gas_correction_limit, gas_cg_tolerance,
- * gas_pressure_limit): mps2p_param_info, docs/two-phase.md.
+ * gas_pressure_limit, gas_buffer_depth, gas_buffer_rate): mps2p_param_info,
+ * docs/two-phase.md.
  * Water at rest stays still with the default scheme; Koshizuka and Oka's
  * lets a still square lattice shear and rearrange (docs/validation.md). */
 MPS2P_API int mps2p_scene_set_option(mps2p_scene *scene, const char *key,
@@ -409,7 +415,9 @@ MPS2P_API int mps2p_solver_get_last_dt(const mps2p_solver *solver, double *dt);
  *   capped at gas_correction_limit), gas_in_liquid (light particles inside the
  *   heavy fluid: more heavy than light neighbours within re_density, or heavy
  *   fluid above and heavy fluid or wall below; computed when asked),
- *   two_phase_active (1 when the effect is on). */
+ *   gas_in_bubbles (light particles cut off from the gas's free surface),
+ *   gas_buffered (light particles the gas's damping layer slowed, effect
+ *   gas_buffer), two_phase_active (1 when the effect is on). */
 MPS2P_API int mps2p_solver_get_stat(const mps2p_solver *solver, const char *key,
                                     double *value);
 

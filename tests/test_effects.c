@@ -257,6 +257,7 @@ static void test_two_phase_effects(void)
     CHECK(effect_active(water, "two_phase", &reason) == 0, "water only, two_phase on");
     CHECK(reason && strstr(reason, "light_fraction"), "reason: %s", reason);
     CHECK(effect_active(water, "interface_reaction", NULL) == 0, "water only, reaction on");
+    CHECK(effect_active(water, "gas_buffer", NULL) == 0, "water only, gas_buffer on");
     run_steps(water, 2);
     CHECK(stage_calls(water, "liquid_pressure", &active) == 0 && !active, "liquid_pressure ran");
     CHECK(stage_calls(water, "pressure_solve", &active) == 2 && active, "pressure_solve");
@@ -275,7 +276,7 @@ static void test_two_phase_effects(void)
     run_steps(improved, 3);
     const char *on[] = {"phases_start", "interface_scan", "interface_join", "liquid_pressure",
                         "gas_pressure", "two_phase_correction", "interface_drift",
-                        "gas_divergence_check"};
+                        "gas_buffer", "gas_divergence_check"};
     for (size_t k = 0; k < sizeof on / sizeof on[0]; k++)
         CHECK(stage_calls(improved, on[k], &active) == 3 && active, "%s not run", on[k]);
     const char *off[] = {"free_surface", "pressure_assembly", "pressure_solve", "correction"};
@@ -290,6 +291,30 @@ static void test_two_phase_effects(void)
     MUST(mps2p_solver_restore_state(improved, state));
     mps2p_state_destroy(state);
     mps2p_solver_destroy(improved);
+
+    /* the gas's damping layer: off on request, or with no depth; without
+     * gravity it cannot be on (there is no top) */
+    mps2p_scene *open_top = water_air_scene(1.2, NULL);
+    MUST(mps2p_scene_set_option(open_top, "effect.gas_buffer", "off"));
+    mps2p_solver *unbuffered = make(open_top);
+    CHECK(effect_active(unbuffered, "gas_buffer", &reason) == 0, "gas_buffer off, but on");
+    run_steps(unbuffered, 1);
+    CHECK(stage_calls(unbuffered, "gas_buffer", &active) == 0 && !active, "gas_buffer ran");
+    mps2p_solver_destroy(unbuffered);
+    mps2p_scene *no_depth = water_air_scene(1.2, NULL);
+    MUST(mps2p_scene_set_param(no_depth, "gas_buffer_depth", 0.0));
+    mps2p_solver *shallow = make(no_depth);
+    CHECK(effect_active(shallow, "gas_buffer", &reason) == 0, "gas_buffer_depth 0, but on");
+    CHECK(reason && strstr(reason, "gas_buffer_depth is 0"), "reason: %s", reason);
+    mps2p_solver_destroy(shallow);
+    mps2p_scene *weightless = water_air_scene(1.2, NULL);
+    MUST(mps2p_scene_set_param(weightless, "gravity_y", 0.0));
+    MUST(mps2p_scene_set_option(weightless, "effect.gas_buffer", "on"));
+    mps2p_solver *weightless_solver = NULL;
+    CHECK(mps2p_solver_create(weightless, &weightless_solver) == MPS2P_ERR_INVALID &&
+              !weightless_solver,
+          "gas_buffer on without gravity accepted");
+    mps2p_scene_destroy(weightless);
 
     /* the conventional model: two phases, no reaction */
     mps2p_solver *two_step = make(water_air_scene(1.2, "two_step"));

@@ -127,6 +127,7 @@ enum effect_id {
     EFFECT_INTERFACE_REACTION, /* gas acting back on the liquid (docs/method.md 3); needs two_phase */
     EFFECT_TURBULENCE,         /* Smagorinsky eddy viscosity; only when requested */
     EFFECT_EXCITATION,         /* horizontal base excitation (a shaken tank) */
+    EFFECT_GAS_BUFFER,         /* the gas's top: a damping layer (two_phase/gas_buffer.c) */
     EFFECT_COUNT
 };
 enum effect_mode { EFFECT_AUTO = 0, EFFECT_ON = 1, EFFECT_OFF = 2 };
@@ -168,6 +169,8 @@ typedef struct params {
     double gas_liquid_volume;  /* gas sees liquid particles weighted (0, 1, 2: gas_pressure.c) */
     double gas_cg_tolerance;   /* CG tolerance of the gas solve; 0 = cg_tolerance */
     double join_hold;          /* 1 = a joined particle stays joined while inside the liquid */
+    double gas_buffer_depth;   /* l0, the damping layer under the gas's starting top; 0 = none */
+    double gas_buffer_rate;    /* 1/s, its damping rate at the top and above */
     double threads;            /* threads of the particle loops; 0 = OpenMP's default */
     int pressure_solver;
     int cg_preconditioner;
@@ -235,7 +238,7 @@ int scene_check_room(mps2p_scene *scene, size_t extra);
 
 /* ---- the solver ---- */
 
-#define STAGE_COUNT 25   /* rows of the stage table (solver/plan.c) */
+#define STAGE_COUNT 26   /* rows of the stage table (solver/plan.c) */
 #define PLAN_CAPACITY 32 /* the stages of a step, with the neighbour list's updates */
 #define EFFECT_REASON_SIZE 160
 

@@ -101,6 +101,25 @@ static int excitation_needed(const mps2p_solver *s, char *why, size_t size)
     return s->params.excitation_acceleration != 0.0;
 }
 
+/* The gas's top boundary: a layer under the gas's starting top where the
+ * gas's velocity is damped, so that gas flung up at an impact stops and
+ * falls back instead of leaving the tank (docs/two-phase.md, rung 6). "Up"
+ * is against gravity. Decided after gravity and two_phase. */
+static int gas_buffer_needed(const mps2p_solver *s, char *why, size_t size)
+{
+    if (!s->effect_active[EFFECT_TWO_PHASE]) {
+        snprintf(why, size, "effect two_phase is off");
+        return 0;
+    }
+    if (!s->effect_active[EFFECT_GRAVITY]) {
+        snprintf(why, size, "effect gravity is off (the layer lies against gravity)");
+        return 0;
+    }
+    snprintf(why, size, "gas_buffer_depth is %g l0, gas_buffer_rate %g 1/s",
+             s->params.gas_buffer_depth, s->params.gas_buffer_rate);
+    return s->params.gas_buffer_depth > 0.0 && s->params.gas_buffer_rate > 0.0;
+}
+
 static int always_possible(const mps2p_solver *s)
 {
     (void)s;
@@ -121,6 +140,7 @@ static const effect_entry effects[EFFECT_COUNT] = {
     [EFFECT_INTERFACE_REACTION] = {"interface_reaction", interface_reaction_needed, NULL},
     [EFFECT_TURBULENCE] = {"turbulence", turbulence_needed, always_possible},
     [EFFECT_EXCITATION] = {"excitation", excitation_needed, NULL},
+    [EFFECT_GAS_BUFFER] = {"gas_buffer", gas_buffer_needed, NULL},
 };
 
 const char *effect_name(int effect)

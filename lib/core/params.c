@@ -105,6 +105,13 @@ static const param_entry table[] = {
     {"gas_correction_limit", FIELD(gas_correction_limit), 0.2, 0.0, BIG,
      "largest velocity change the gas pressure gives a light particle in one step, in l0 / dt "
      "(two_step_improved); 0 = none"},
+    /* the gas's top boundary (docs/two-phase.md, the ladder's rung 6) */
+    {"gas_buffer_depth", FIELD(gas_buffer_depth), 5.0, 0.0, 1e6,
+     "depth of the gas's damping layer under the gas's top at the first step, in l0 (effect "
+     "gas_buffer); 0 = none, an open top"},
+    {"gas_buffer_rate", FIELD(gas_buffer_rate), 500.0, 0.0, 1e12,
+     "damping rate of a gas particle's velocity at the damping layer's top and above, 1/s; "
+     "it grows as the square of the depth into the layer"},
     {"gas_pressure_limit", FIELD(gas_pressure_limit), 0.0, 0.0, BIG,
      "|gas pressure| above it means diverged (Pa); 0 = 1000 rho_light max(|g| L, 1 m^2/s^2)"},
     /* checked before allocating: with overcommit, malloc of too much succeeds and the
@@ -297,6 +304,7 @@ static const option_entry options[] = {
     EFFECT_OPTION("effect.two_phase", EFFECT_TWO_PHASE),
     EFFECT_OPTION("effect.interface_reaction", EFFECT_INTERFACE_REACTION),
     EFFECT_OPTION("effect.turbulence", EFFECT_TURBULENCE),
+    EFFECT_OPTION("effect.gas_buffer", EFFECT_GAS_BUFFER),
 #undef EFFECT_OPTION
 };
 

@@ -79,18 +79,22 @@ int h5_read_parameters(h5_context *ctx, hid_t file, params *out)
     const char *key;
     for (size_t i = 0; status == 0 && mps2p_param_info(i, &key, NULL, NULL) == MPS2P_OK; i++) {
         double value = 0.0;
-        /* threads changes no result bit, memory_limit only what is refused;
+        /* threads changes no result bit, memory_limit only what is refused,
+         * gas_buffer_rate nothing without the layer (off in older files, below);
          * files from before them lack them (their defaults) */
-        if ((strcmp(key, "threads") == 0 || strcmp(key, "memory_limit") == 0) &&
+        if ((strcmp(key, "threads") == 0 || strcmp(key, "memory_limit") == 0 ||
+             strcmp(key, "gas_buffer_rate") == 0) &&
             H5Aexists(group, key) == 0)
             continue;
         /* files from before the corrected scheme: no gravity limit on dt, the
          * collision impulse in full every step; from before the two-phase
-         * ladder: the paper's trigger, no whole bubbles joining */
+         * ladder: the paper's trigger, no whole bubbles joining; from before
+         * the gas's damping layer: an open top */
         double *before = strcmp(key, "gravity_number") == 0   ? &out->gravity_number
                          : strcmp(key, "collision_time") == 0 ? &out->collision_time
                          : strcmp(key, "trigger_speed") == 0  ? &out->trigger_speed
                          : strcmp(key, "join_bubbles") == 0   ? &out->join_bubbles
+                         : strcmp(key, "gas_buffer_depth") == 0 ? &out->gas_buffer_depth
                                                               : NULL;
         if (before && H5Aexists(group, key) == 0) {
             *before = 0.0;
@@ -107,9 +111,11 @@ int h5_read_parameters(h5_context *ctx, hid_t file, params *out)
         /* the scheme is a name for the other settings, read on their own */
         if (strcmp(key, "scheme") == 0)
             continue;
-        /* files from before ppe_pattern or cg_preconditioner: its default,
-         * their only choice then */
-        if ((strcmp(key, "ppe_pattern") == 0 || strcmp(key, "cg_preconditioner") == 0) &&
+        /* files from before ppe_pattern, cg_preconditioner or effect.gas_buffer:
+         * its default, their only choice then (the layer is off there through
+         * gas_buffer_depth 0) */
+        if ((strcmp(key, "ppe_pattern") == 0 || strcmp(key, "cg_preconditioner") == 0 ||
+             strcmp(key, "effect.gas_buffer") == 0) &&
             H5Aexists(group, key) == 0)
             continue;
         /* files from before wall_ghosts had none */

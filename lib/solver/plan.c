@@ -42,7 +42,8 @@ typedef struct stage {
  * so that viscosity sees their velocity. With two phases (docs/method.md
  * 2-3) the liquid's own n^k is taken at the start, and the free surface,
  * PPE and correction give way to the sector scan, the liquid then the gas
- * PPE and a correction per phase; the gas's own check runs before the
+ * PPE and a correction per phase, then the gas's damping layer at its top
+ * (before the checks: it is the boundary, not a repair); the gas's own check runs before the
  * general one (its message says more about a squeezed gas particle). */
 static const stage stages[] = {
     {"neighbours", -1, NULL, neighbours_refresh, 0, 0},
@@ -70,6 +71,7 @@ static const stage stages[] = {
     {"correction", -1, single_phase, pressure_correct, 0, 0},
     {"two_phase_correction", EFFECT_TWO_PHASE, NULL, phases_correct, 0, 0},
     {"interface_drift", EFFECT_INTERFACE_REACTION, NULL, interface_drift_apply, 0, 0},
+    {"gas_buffer", EFFECT_GAS_BUFFER, NULL, gas_buffer_apply, 0, 0},
     {"gas_divergence_check", EFFECT_TWO_PHASE, NULL, phases_divergence_check, 0, 0},
     {"divergence_check", -1, NULL, divergence_check, 0, 0},
 };

@@ -44,6 +44,8 @@ int phases_step_start(mps2p_solver *s, double dt)
         memcpy(tp->heavy_n_initial, tp->heavy_n_start, s->count * sizeof(double));
         tp->have_initial = 1;
     }
+    if (s->effect_active[EFFECT_GAS_BUFFER] && !tp->have_gas_top)
+        gas_buffer_reference(s);
     return MPS2P_OK;
 }
 

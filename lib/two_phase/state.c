@@ -18,6 +18,9 @@
  *   heavy_pressure, gas_pressure
  *                    the initial guesses of the liquid and gas CG solves
  *                    (pressure_assemble_system; CHOLMOD ignores them)
+ *   gas_top, have_gas_top
+ *                    the gas damping layer's top, taken at the first step
+ *                    with effect gas_buffer on (gas_buffer.c)
  *   gas_pressure_limit
  *                    derived at allocation from the gravity of that time;
  *                    mps2p_solver_set_gravity does not change it
@@ -84,6 +87,10 @@ static const field two_phase_rows[] = {
     FIELD(gas_iterations, FIELD_SIZE, CARRIED),
     FIELD(capped_count, FIELD_SIZE, CARRIED | FIELD_OPTIONAL),
     FIELD(bubble_count, FIELD_SIZE, CARRIED | FIELD_OPTIONAL),
+    /* absent (0) in older files: the layer's top is taken at the next step */
+    FIELD(gas_top, FIELD_DOUBLE, CARRIED | FIELD_OPTIONAL),
+    FIELD(have_gas_top, FIELD_INT, CARRIED | FIELD_OPTIONAL),
+    FIELD(buffered_count, FIELD_SIZE, CARRIED | FIELD_OPTIONAL),
 };
 
 const field_table two_phase_fields = {two_phase_rows,
@@ -147,7 +154,9 @@ int phases_carried_check(const mps2p_solver *s, char *why, size_t size)
              isfinite(tp->gas_pressure_limit) && tp->gas_pressure_limit > 0.0 &&
              (any_pressure || isfinite(tp->gas_pressure_max)) && tp->gas_pressure_max >= 0.0 &&
              tp->triggered_count <= n && tp->enclosed_count <= n && tp->joined_count <= n &&
-             tp->capped_count <= n && tp->bubble_count <= n && tp->heavy_unknowns <= n &&
+             (tp->have_gas_top == 0 || tp->have_gas_top == 1) && isfinite(tp->gas_top) &&
+             tp->capped_count <= n && tp->bubble_count <= n && tp->buffered_count <= n &&
+             tp->heavy_unknowns <= n &&
              tp->gas_unknowns <= n;
     if (!ok) {
         snprintf(why, size, "inconsistent two-phase values (have_initial %d, gas pressure limit "

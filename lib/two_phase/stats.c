@@ -14,6 +14,7 @@ COUNT(gas_enclosed, enclosed_count)
 COUNT(gas_joined, joined_count)
 COUNT(gas_capped, capped_count)
 COUNT(gas_in_bubbles, bubble_count)
+COUNT(gas_buffered, buffered_count)
 COUNT(gas_ppe_unknowns, gas_unknowns)
 COUNT(gas_ppe_iterations, gas_iterations)
 
@@ -44,6 +45,8 @@ const stat_entry two_phase_stats[] = {
          "re_density, or heavy fluid above and heavy fluid or wall below (computed when asked)"),
     STAT(gas_capped, 1,
          "light particles whose correction was capped at gas_correction_limit in the last step"),
+    STAT(gas_buffered, 1,
+         "light particles the gas's damping layer (effect gas_buffer) slowed in the last step"),
     STAT(gas_pressure_max, 0, "highest gas pressure of the light particles moved by the gas (Pa)"),
     STAT(gas_ppe_unknowns, 1, "unknowns of the last gas pressure solve"),
     STAT(gas_ppe_iterations, 1, "CG iterations of the last gas pressure solve"),

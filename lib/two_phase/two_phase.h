@@ -35,8 +35,11 @@ typedef struct two_phase {
     int have_initial;
     double *heavy_rho, *gas_rho;     /* densities of the two PPEs' sources */
     double gas_pressure_limit;
+    double gas_top;             /* height of the highest light particle at the first step */
+    int have_gas_top;
     /* diagnostics of the last step */
     size_t triggered_count, enclosed_count, joined_count, capped_count, bubble_count;
+    size_t buffered_count;      /* light particles the gas buffer damped */
     size_t heavy_unknowns, heavy_iterations, gas_unknowns, gas_iterations;
     double gas_pressure_max;
 } two_phase;
@@ -78,6 +81,10 @@ int liquid_pressure_solve(mps2p_solver *s, double dt); /* liquid_pressure.c */
 /* The gas PPE, then the state's pressure per phase (phases_pressure_combine). */
 int gas_pressure_solve(mps2p_solver *s, double dt);    /* gas_pressure.c */
 int phases_correct(mps2p_solver *s, double dt);        /* correction.c: per phase */
+/* The gas's damping layer (effect gas_buffer): its top taken at the first
+ * step's start (from phases_step_start), then the damping after the drift. */
+void gas_buffer_reference(mps2p_solver *s);           /* gas_buffer.c */
+int gas_buffer_apply(mps2p_solver *s, double dt);      /* gas_buffer.c */
 int interface_drift_apply(mps2p_solver *s, double dt); /* interface_reaction.c */
 int phases_divergence_check(mps2p_solver *s, double dt); /* divergence.c */
 

@@ -47,3 +47,21 @@ def test_bubble_rises_out(name):
     assert m["rise_ratio"] is not None and 0.5 < m["rise_ratio"] < 2.0, m
     assert m["most_outside_tank"] == 0, m
     assert m["surface_deviation_at_end"] < 1.5, m
+
+
+def test_gas_thrown_up_stays_in_the_tank():
+    """Rung 6, the gas's top: an air particle thrown up at 3 m/s from the
+    top of the gas stops in the gas's damping layer (effect gas_buffer, on
+    by default with two phases and gravity), within 1 l0 of the gas's
+    starting top, and is sinking back at the end; no gas particle leaves
+    the tank. Without the layer (an open top) the same particle flies 43 l0
+    up and out of the domain: the layer is what holds it."""
+    held = ladder.gas_thrown_up(buffer=True)
+    assert held["effect_on"] and held["diverged"] is None, held
+    assert held["gas_highest_above_top"] < 1.0, held
+    assert held["most_gas_outside_tank"] == 0, held
+    assert held["thrown_velocity_at_end"] < 0.01, held
+    open_top = ladder.gas_thrown_up(buffer=False)
+    assert not open_top["effect_on"], open_top
+    assert open_top["thrown_highest_above_top"] > open_top["tank_top_above_gas_top"], open_top
+    assert open_top["most_gas_outside_tank"] > 0, open_top

@@ -193,12 +193,72 @@ def bubble_rise(name, until=2.0, sample_every=0.01, path=None):
             "most_outside_tank": most_outside,
             "in_water": in_water[::10]}
 
+def gas_thrown_up(speed=3.0, until=0.3, buffer=True, sample_every=0.005, path=None):
+    """Rung 6, the gas's top: rung 1's tank with the air particle at the top
+    of the gas's middle column thrown up at `speed` m/s (the site left out of
+    the air box, the particle added with that velocity); with the gas's
+    damping layer (effect gas_buffer) or without it (an open top). Reports
+    the highest the thrown particle and any gas particle got above the
+    gas's starting top, in l0, the most gas particles above the tank's walls
+    or outside its sides, and the thrown particle's vertical velocity at
+    the end (or the divergence's message: a particle left the domain)."""
+    from ..solver import Solver
+    path = path or scene_path("still_water_under_air")
+    sf = scenefile.load(path)
+    l0 = sf.l0
+    data = dict(sf.data)
+    air = [b for b in data["fluid_box"] if b["fluid"] == "air"][0]
+    x0, y0, x1, y1 = air["box"]
+    middle = x0 + l0 * math.floor((x1 - x0) / (2 * l0))
+    boxes = [b for b in data["fluid_box"] if b is not air]
+    boxes += [{"fluid": "air", "box": [x0, y0, x1, y1 - l0]},
+              {"fluid": "air", "box": [x0, y1 - l0, middle, y1]},
+              {"fluid": "air", "box": [middle + l0, y1 - l0, x1, y1]}]
+    data["fluid_box"] = boxes
+    data["options"] = dict(data.get("options", {}),
+                           **{"effect.gas_buffer": "auto" if buffer else "off"})
+    sf = scenefile.SceneFile(path, sf.text, data)
+    start = (middle + 0.5 * l0, y1 - 0.5 * l0)
+    with sf.build() as scene:
+        scene.add_particles([start], [0], [sf.fluids.index("air")], [[0.0, speed]])
+        s = Solver(scene)
+    with s:
+        ids, kinds = s.fluid_ids(), s.kinds()
+        gas = (kinds == 0) & (ids == sf.fluids.index("air"))
+        thrown = int(np.argmin(np.hypot(*(s.positions() - start).T)))
+        gas_top = float(s.positions()[gas, 1].max())
+        tx0, _, tx1, ty1 = sf.data["tank"][0]["box"]
+        highest = highest_gas = -math.inf
+        most_out = 0
+        steps = int(round(until / sample_every))
+        diverged = None
+        for k in range(1, steps + 1):
+            try:
+                s.advance_to(k * sample_every)
+            except errors.DivergedError as e:  # flew out of the domain: the open top
+                diverged = str(e)
+                break
+            r = s.positions()
+            highest = max(highest, r[thrown, 1])
+            highest_gas = max(highest_gas, r[gas, 1].max())
+            out = gas & ((r[:, 1] > ty1) | (r[:, 0] < tx0) | (r[:, 0] > tx1))
+            most_out = max(most_out, int(out.sum()))
+        return {"buffer": bool(buffer), "speed": speed, "until": until, "diverged": diverged,
+                "effect_on": s.effects()["gas_buffer"][0],
+                "thrown_highest_above_top": (highest - gas_top) / l0,
+                "gas_highest_above_top": (highest_gas - gas_top) / l0,
+                "tank_top_above_gas_top": (ty1 - gas_top) / l0,
+                "most_gas_outside_tank": most_out,
+                "thrown_velocity_at_end": float(s.velocities()[thrown, 1])}
+
 
 RUNGS = {
     "still_water_under_air": lambda until: still_water_under_air(until=until or 10.0),
     "droplet_in_air": lambda until: droplet_in_air(),
     "bubble_rise_4x4": lambda until: bubble_rise("bubble_rise_4x4", until=until or 2.0),
     "bubble_rise_8x8": lambda until: bubble_rise("bubble_rise_8x8", until=until or 2.0),
+    "gas_thrown_up": lambda until: [gas_thrown_up(until=until or 0.3, buffer=b)
+                                    for b in (True, False)],
 }
 
 
