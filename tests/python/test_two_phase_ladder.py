@@ -65,3 +65,29 @@ def test_gas_thrown_up_stays_in_the_tank():
     assert not open_top["effect_on"], open_top
     assert open_top["thrown_highest_above_top"] > open_top["tank_top_above_gas_top"], open_top
     assert open_top["most_gas_outside_tank"] > 0, open_top
+
+
+def test_rung_4_measures_see_what_they_count():
+    """The paper's case's measures on made-up particles: an isolated water
+    particle in the air above the water counts as suspended, one under a
+    layer of water in its column does not; an empty square 6 l0 wide in a
+    lattice of gas is a hole about 5 l0 wide, and a full lattice has none
+    wider than 1 l0."""
+    import numpy as np
+    l0 = 0.01
+    xs, ys = np.meshgrid(np.arange(20) * l0 + 0.5 * l0, np.arange(30) * l0 + 0.5 * l0)
+    lattice = np.column_stack((xs.ravel(), ys.ravel()))
+    x, y = lattice[:, 0], lattice[:, 1]
+
+    def at(px, py):
+        return (np.abs(x - px) < 1e-6) & (np.abs(y - py) < 1e-6)
+
+    water = (y < 0.05) | ((np.abs(y - 0.255) < 1e-6) & (x > 0.06) & (x < 0.15))
+    water |= at(0.105, 0.155) | at(0.175, 0.155)  # under the layer; in the open air
+    assert ladder.suspended_water(lattice, water, l0) == 1
+    tank = (0.0, 0.0, 0.2, 0.3)
+    kind = np.zeros(len(lattice), dtype=int)
+    assert ladder.widest_gas_hole(lattice, kind, ~water, tank, l0) == 1.0
+    hole = (np.abs(x - 0.1) < 0.03) & (np.abs(y - 0.12) < 0.03)
+    width = ladder.widest_gas_hole(lattice[~hole], kind[~hole], ~water[~hole], tank, l0)
+    assert 4.5 < width < 6.5, width

@@ -3,9 +3,12 @@ a scene in examples/scenes and a number that tells, measured here and
 asserted by tests/python/test_two_phase_ladder.py.
 
     python3 -m mps2p.tools.ladder [rung ...] [--until T]
+    python3 -m mps2p.tools.ladder --results out/ikari2003_dam_break_air/results.h5
 
 prints each rung's measures as JSON (rungs: still_water_under_air,
-droplet_in_air, bubble_rise_4x4, bubble_rise_8x8)."""
+droplet_in_air, bubble_rise_4x4, bubble_rise_8x8, gas_thrown_up), or with
+--results rung 4's of a run of the paper's case (`mps2p run`'s results.h5):
+water suspended in the air and the widest hole in the gas, per snapshot."""
 import argparse
 import json
 import math
@@ -251,6 +254,107 @@ def gas_thrown_up(speed=3.0, until=0.3, buffer=True, sample_every=0.005, path=No
                 "most_gas_outside_tank": most_out,
                 "thrown_velocity_at_end": float(s.velocities()[thrown, 1])}
 
+def _nearest_distance(points, particles, chunk=2048):
+    """Distance from each point to its nearest particle (brute force, in
+    chunks: a results snapshot is a few thousand particles)."""
+    best = np.full(len(points), np.inf)
+    if len(particles) == 0:
+        return best
+    for k in range(0, len(points), chunk):
+        d = points[k:k + chunk, None, :] - particles[None, :, :]
+        best[k:k + chunk] = np.sqrt((d ** 2).sum(axis=2).min(axis=1))
+    return best
+
+
+def suspended_water(position, water, l0, radius=2.1):
+    """Rung 4's water suspended in the air: water particles with no other
+    water particle within `radius` l0 (isolated, as issue 15 counts spray)
+    that lie above the top of the water body (the water that is not
+    isolated) in their l0-wide column, or in a column without it."""
+    r = position[water]
+    if len(r) == 0:
+        return 0
+    d = r[:, None, :] - r[None, :, :]
+    d2 = (d ** 2).sum(axis=2)
+    np.fill_diagonal(d2, np.inf)
+    isolated = d2.min(axis=1) > (radius * l0) ** 2
+    columns = np.floor(r[:, 0] / l0).astype(int)
+    tops = {}
+    for c, y in zip(columns[~isolated], r[~isolated, 1]):
+        tops[c] = max(tops.get(c, -math.inf), y)
+    return int(sum(1 for c, y in zip(columns[isolated], r[isolated, 1])
+                   if y > tops.get(c, -math.inf)))
+
+
+def widest_gas_hole(position, kind, light, tank, l0):
+    """Rung 4's holes in the gas, in l0: the widest empty disc (diameter
+    2 d - l0, d the distance from its centre to the nearest particle of any
+    kind, each particle taken as l0 wide) centred on a point of an l0/2
+    lattice inside the tank's walls, below the highest gas particle of its
+    column, whose nearest fluid particle is gas. Lattice points within l0 of
+    a particle are struck off first (no hole wider than 1 l0 there), the
+    rest measured exactly."""
+    x0, y0, x1, _ = tank
+    h = 0.5 * l0
+    gas = position[light]
+    nx = int(math.floor((x1 - x0 - l0) / h)) + 1
+    ny = int(math.floor((gas[:, 1].max() - y0 - l0) / h)) + 1
+    if nx < 1 or ny < 1:
+        return 0.0
+    free = np.ones((nx, ny), dtype=bool)
+    cell = np.round((position - (x0 + 0.5 * l0, y0 + 0.5 * l0)) / h).astype(int)
+    for di in range(-2, 3):
+        for dj in range(-2, 3):
+            if di * di + dj * dj > 4:
+                continue
+            i, j = cell[:, 0] + di, cell[:, 1] + dj
+            keep = (i >= 0) & (i < nx) & (j >= 0) & (j < ny)
+            free[i[keep], j[keep]] = False
+    ii, jj = np.nonzero(free)
+    points = np.column_stack((x0 + 0.5 * l0 + h * ii, y0 + 0.5 * l0 + h * jj))
+    columns = np.floor(gas[:, 0] / l0).astype(int)
+    tops = {}
+    for c, y in zip(columns, gas[:, 1]):
+        tops[c] = max(tops.get(c, -math.inf), y)
+    below = np.array([y < tops.get(int(math.floor(x / l0)), -math.inf) for x, y in points],
+                     dtype=bool)
+    points = points[below] if len(points) else points
+    if len(points) == 0:
+        return 1.0  # every lattice point within l0 of a particle: no hole wider than 1 l0
+    fluid = kind == 0
+    d_gas = _nearest_distance(points, gas)
+    liquid = position[fluid & ~light]
+    d_liquid = _nearest_distance(points, liquid)
+    in_gas = d_gas <= d_liquid
+    if not in_gas.any():
+        return 1.0
+    d_any = np.minimum(np.minimum(d_gas, d_liquid), _nearest_distance(points, position[~fluid]))
+    return float(max(1.0, (2.0 * d_any[in_gas].max() - l0) / l0))
+
+
+def paper_case_measures(results_path, water="water", air="air"):
+    """Rung 4's measures of a run of the paper's case (`mps2p run`'s
+    results.h5, the scene's tank): per snapshot the time, the suspended
+    water (count and fraction of the water) and the widest hole in the gas
+    (l0)."""
+    from ..results import open_results
+    from .scenefile import tomllib
+    rows = []
+    with open_results(results_path) as f:
+        names = [name for name, _, _ in f.fluids]
+        tank = tomllib.loads(f.scene_text)["tank"][0]["box"]
+        l0 = float(f.metadata["l0"])
+        for snap in f.snapshots():
+            fluid = snap["kind"] == 0
+            is_water = fluid & (snap["fluid_id"] == names.index(water))
+            light = fluid & (snap["fluid_id"] == names.index(air))
+            count = suspended_water(snap["position"], is_water, l0)
+            rows.append({"time": snap["time"], "suspended_water": count,
+                         "suspended_fraction": count / max(1, int(is_water.sum())),
+                         "widest_gas_hole": widest_gas_hole(snap["position"], snap["kind"],
+                                                            light, tank, l0)})
+    return rows
+
 
 RUNGS = {
     "still_water_under_air": lambda until: still_water_under_air(until=until or 10.0),
@@ -267,7 +371,17 @@ def main(argv=None):
                                      description="the two-phase ladder's measures")
     parser.add_argument("rungs", nargs="*", help="of %s (default: all)" % ", ".join(RUNGS))
     parser.add_argument("--until", type=float, default=None, help="end time (s)")
+    parser.add_argument("--results", metavar="RESULTS_H5",
+                        help="rung 4's measures of a run of the paper's case instead "
+                             "(suspended water, holes in the gas, per snapshot)")
     args = parser.parse_args(argv)
+    if args.results:
+        rows = paper_case_measures(args.results)
+        late = [r["suspended_fraction"] for r in rows if r["time"] >= 5.0 - 1e-9]
+        print(json.dumps({"paper_case": {
+            "most_suspended_fraction_from_5s": max(late) if late else None,
+            "widest_gas_hole": max(r["widest_gas_hole"] for r in rows), "snapshots": rows}}))
+        return 0
     unknown = [name for name in args.rungs if name not in RUNGS]
     if unknown:
         parser.error("unknown rung %s (rungs: %s)" % (", ".join(unknown), ", ".join(RUNGS)))
