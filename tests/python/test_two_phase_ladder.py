@@ -47,3 +47,15 @@ def test_bubble_rises_out(name):
     assert m["rise_ratio"] is not None and 0.5 < m["rise_ratio"] < 2.0, m
     assert m["most_outside_tank"] == 0, m
     assert m["surface_deviation_at_end"] < 1.5, m
+
+
+def test_dam_break_front_keeps_up_without_air():
+    """Rung 4's front (issue 17): the paper's dam break with air keeps its
+    water front on the floor within 0.02 m of the same column's without air
+    (same dt, solver and tolerances), every 0.05 s to 0.2 s. Air ahead of
+    the front on the dry floor once joined the liquid solve (a sector pair
+    closing with the floor in it) and rode the front: 0.046 m behind at
+    0.2 s."""
+    m = ladder.dam_break_front(until=0.2)
+    assert len(m["with_air"]) == 4, m
+    assert m["largest_lag"] < 0.02, m
