@@ -13,7 +13,9 @@
  * row every step; docs/two-phase.md), and the threshold keeps it to
  * closing liquid. Walls and dummies count as heavy particles at
  * rest when sector_scan_walls = 1 (the default: the gas is pinched against
- * walls at impact, which a liquid-only scan misses). "Enclosed": heavy
+ * walls at impact, which a liquid-only scan misses), but a pair that closes
+ * only with a wall in it triggers a light particle inside the liquid only
+ * (more liquid than light neighbours; below, in interface_scan). "Enclosed": heavy
  * particles in all 8 sectors. The scan is a stage of effect two_phase (its
  * counts describe the conventional model's squeeze too).
  *
@@ -61,14 +63,15 @@ int interface_scan(mps2p_solver *s, double dt)
         tp->triggered[i] = tp->enclosed[i] = 0;
         if (!tp->light[i])
             continue;
-        int occupied[8] = {0};
-        double rep[8];
+        /* per sector: [0] liquid only, [1] liquid and (with sector_scan_walls) walls */
+        int occupied[2][8] = {{0}};
+        double rep[2][8];
         for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
             size_t j = nl.index[k];
             double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
             double d2 = dx * dx + dy * dy;
-            int heavy = s->kind[j] == MPS2P_KIND_FLUID ? !tp->light[j] : walls;
-            if (!heavy)
+            int liquid = s->kind[j] == MPS2P_KIND_FLUID && !tp->light[j];
+            if (!liquid && !(walls && s->kind[j] != MPS2P_KIND_FLUID))
                 continue;
             if (d2 > r2max || d2 <= 0.0)
                 continue;
@@ -80,16 +83,30 @@ int interface_scan(mps2p_solver *s, double dt)
                 a = 7;
             /* sectors 1, 2, 5, 6 (index 0, 1, 4, 5): horizontal velocity */
             double v = (a == 0 || a == 1 || a == 4 || a == 5) ? u[2 * j] : u[2 * j + 1];
-            if (!occupied[a] || v > rep[a])
-                rep[a] = v;
-            occupied[a] = 1;
+            for (int set = liquid ? 0 : 1; set < 2; set++) {
+                if (!occupied[set][a] || v > rep[set][a])
+                    rep[set][a] = v;
+                occupied[set][a] = 1;
+            }
         }
-        int all = 1, trigger = 0;
+        int all = 1, closes[2] = {0, 0};
         for (int a = 0; a < 8; a++)
-            all &= occupied[a];
-        for (int a = 0; a < 4; a++)
-            if (occupied[a] && occupied[a + 4] && rep[a] + closing < rep[a + 4])
-                trigger = 1;
+            all &= occupied[1][a];
+        for (int set = 0; set < 2; set++)
+            for (int a = 0; a < 4; a++)
+                if (occupied[set][a] && occupied[set][a + 4] &&
+                    rep[set][a] + closing < rep[set][a + 4])
+                    closes[set] = 1;
+        /* A pair that closes only with a wall in it triggers gas inside the
+         * liquid (more liquid than light neighbours) only: liquid sliding
+         * along a wall closes on a wall particle ahead of it without
+         * pinching anything, and the gas beside it, at the foot of a
+         * collapsing column or ahead of a surge front on a dry floor, has
+         * the rest of the gas to move into. Triggered there, it joined the
+         * liquid solve as liquid volume and rode the front as the liquid's
+         * nose: the paper's dam break's front fell 0.028 m behind the
+         * water-only one by 0.1 s, 0.046 m by 0.2 s (docs/two-phase.md). */
+        int trigger = closes[0] || (closes[1] && more_liquid_than_light_neighbours(s, i));
         tp->triggered[i] = (unsigned char)trigger;
         tp->enclosed[i] = (unsigned char)all;
         triggered += (size_t)trigger;

@@ -6,9 +6,10 @@ asserted by tests/python/test_two_phase_ladder.py.
     python3 -m mps2p.tools.ladder --results out/ikari2003_dam_break_air/results.h5
 
 prints each rung's measures as JSON (rungs: still_water_under_air,
-droplet_in_air, bubble_rise_4x4, bubble_rise_8x8, gas_thrown_up), or with
---results rung 4's of a run of the paper's case (`mps2p run`'s results.h5):
-water suspended in the air and the widest hole in the gas, per snapshot."""
+droplet_in_air, bubble_rise_4x4, bubble_rise_8x8, dam_break_front,
+gas_thrown_up), or with --results rung 4's of a run of the paper's case
+(`mps2p run`'s results.h5): water suspended in the air and the widest hole in
+the gas, per snapshot."""
 import argparse
 import json
 import math
@@ -356,11 +357,35 @@ def paper_case_measures(results_path, water="water", air="air"):
     return rows
 
 
+def dam_break_front(until=0.2, sample_every=0.05, path=None):
+    """Rung 4's front: the water front on the floor (probe "front" of the
+    paper's scene: below 0.02 m) every sample_every until `until`, with air
+    and for the same scene without it (same dt, solver and tolerances), and
+    the largest lag of the front with air behind the one without (m)."""
+    path = path or scene_path("ikari2003_dam_break_air")
+    result = {"until": until}
+    for label, without in (("with_air", None), ("without_air", "air")):
+        sf, s = _solver(path, without=without)
+        probe = next(p for p in sf.probes if p["name"] == "front")
+        fronts = []
+        with s:
+            water = sf.fluids.index(probe["fluid"])
+            for k in range(1, int(round(until / sample_every)) + 1):
+                t = k * sample_every
+                s.advance_to(t)
+                fronts.append((round(t, 6), s.front(water, below=probe["below"])))
+        result[label] = fronts
+    result["largest_lag"] = max(b[1] - a[1] for a, b in
+                                zip(result["with_air"], result["without_air"]))
+    return result
+
+
 RUNGS = {
     "still_water_under_air": lambda until: still_water_under_air(until=until or 10.0),
     "droplet_in_air": lambda until: droplet_in_air(),
     "bubble_rise_4x4": lambda until: bubble_rise("bubble_rise_4x4", until=until or 2.0),
     "bubble_rise_8x8": lambda until: bubble_rise("bubble_rise_8x8", until=until or 2.0),
+    "dam_break_front": lambda until: dam_break_front(until=until or 0.2),
     "gas_thrown_up": lambda until: [gas_thrown_up(until=until or 0.3, buffer=b)
                                     for b in (True, False)],
 }
