@@ -1,7 +1,7 @@
 /* The particle loops in parallel (OpenMP, parameter threads): the same short
  * dam break with 1, 2 and 3 threads, and twice with 2, gives bitwise the same
- * positions, velocities and pressure; so does a CG solve of more than one
- * reduction block. Bad thread counts are refused. Without OpenMP every count
+ * positions, velocities and pressure; so do a CG solve of more than one
+ * reduction block and a water column collapsing under air (two phases). Bad thread counts are refused. Without OpenMP every count
  * runs on one thread, and the test holds trivially. */
 #include <string.h>
 #include "scenes.h"
@@ -66,6 +66,22 @@ int main(void)
     MUST(mps2p_scene_set_option(column, "pressure_solver", "cg"));
     compare_counts(column, 4, "1 m x 2 m column (cg, about 5000 unknowns)");
     mps2p_scene_destroy(column);
+
+    /* two phases: the sector scan, the number densities each phase sees, the
+     * correction per phase, the drift and both CG solves */
+    mps2p_scene *air_column;
+    int air;
+    MUST(mps2p_scene_create(0.02, &air_column));
+    MUST(mps2p_scene_add_fluid(air_column, "water", 1000.0, 1e-6, &water));
+    MUST(mps2p_scene_add_fluid(air_column, "air", 1.2, 1.5e-5, &air));
+    MUST(mps2p_scene_add_fluid_box(air_column, water, 0.0, 0.0, 0.16, 0.3));
+    MUST(mps2p_scene_add_fluid_box(air_column, air, 0.16, 0.0, 0.6, 0.7));
+    MUST(mps2p_scene_add_fluid_box(air_column, air, 0.0, 0.3, 0.16, 0.7));
+    MUST(mps2p_scene_add_tank(air_column, 0.0, 0.0, 0.6, 1.0, 1));
+    MUST(mps2p_scene_set_option(air_column, "pressure_solver", "cg"));
+    MUST(mps2p_scene_set_param(air_column, "dt", 1e-3));
+    compare_counts(air_column, 150, "water column under air (two phases, cg)");
+    mps2p_scene_destroy(air_column);
 
     /* 0 = OpenMP's default; whole numbers in [0, 1024] only */
     CHECK(mps2p_scene_set_param(scene, "threads", 0) == MPS2P_OK, "threads 0 refused");

@@ -36,6 +36,7 @@ int phases_correct(mps2p_solver *s, double dt)
     /* the improved model's guard; the conventional model is the paper's */
     const double cap = tp->improved ? s->params.gas_correction_limit * s->l0 / dt : 0.0;
     size_t capped = 0;
+    PARALLEL_FOR(s->params.threads, schedule(static) reduction(+ : capped),
     for (size_t i = 0; i < s->count; i++) {
         double *du = &change[2 * i];
         du[0] = du[1] = 0.0;
@@ -64,7 +65,7 @@ int phases_correct(mps2p_solver *s, double dt)
                 capped++;
             }
         }
-    }
+    });
     tp->capped_count = capped;
     correction_apply(s, change, dt);
     return MPS2P_OK;

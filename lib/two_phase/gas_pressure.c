@@ -23,6 +23,7 @@ static const double *gas_number_density(mps2p_solver *s)
     const double re = s->params.re_density * s->l0, n0 = s->n0_density;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *position = s->state.position;
+    PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         double n = 0.0;
         for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
@@ -40,7 +41,7 @@ static const double *gas_number_density(mps2p_solver *s)
             n += w;
         }
         tp->gas_n[i] = n;
-    }
+    });
     return tp->gas_n;
 }
 

@@ -59,6 +59,7 @@ int interface_scan(mps2p_solver *s, double dt)
     const double closing = s->params.trigger_speed *
                            sqrt(hypot(s->params.gravity[0], s->params.gravity[1]) * s->l0);
     size_t triggered = 0, enclosed = 0;
+    PARALLEL_FOR(s->params.threads, schedule(static) reduction(+ : triggered, enclosed),
     for (size_t i = 0; i < s->count; i++) {
         tp->triggered[i] = tp->enclosed[i] = 0;
         if (!tp->light[i])
@@ -111,7 +112,7 @@ int interface_scan(mps2p_solver *s, double dt)
         tp->enclosed[i] = (unsigned char)all;
         triggered += (size_t)trigger;
         enclosed += (size_t)all;
-    }
+    });
     tp->triggered_count = triggered;
     tp->enclosed_count = enclosed;
     return MPS2P_OK;
@@ -205,6 +206,8 @@ int interface_drift_apply(mps2p_solver *s, double dt)
     const int gravity_on = s->effect_active[EFFECT_GRAVITY];
     const double rise = s->params.bubble_rise_velocity;
     const double relax = 1.0 - exp(-dt / s->params.bubble_relaxation_time);
+    /* a drift bubble reads only liquid neighbours, whom this loop never moves */
+    PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         if (!tp->light[i] || !(tp->joined[i] || tp->join_weight[i] > 0.0))
             continue;
@@ -231,6 +234,6 @@ int interface_drift_apply(mps2p_solver *s, double dt)
             u[2 * i + d] += du;
             r[2 * i + d] += dt * du;
         }
-    }
+    });
     return MPS2P_OK;
 }

@@ -9,9 +9,6 @@
 #include <math.h>
 #include <string.h>
 
-
-
-
 /* Number density as the liquid sees it: light particles count only when
  * they have joined the liquid solve. */
 static void heavy_number_density(const mps2p_solver *s, double *out)
@@ -20,6 +17,7 @@ static void heavy_number_density(const mps2p_solver *s, double *out)
     const double re = s->params.re_density * s->l0;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *position = s->state.position;
+    PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         double n = 0.0;
         for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
@@ -32,7 +30,7 @@ static void heavy_number_density(const mps2p_solver *s, double *out)
             n += tp->light[j] ? tp->join_weight[j] * w : w;
         }
         out[i] = n;
-    }
+    });
 }
 
 int phases_step_start(mps2p_solver *s, double dt)
