@@ -7,7 +7,7 @@ asserted by tests/python/test_two_phase_ladder.py.
 
 prints each rung's measures as JSON (rungs: still_water_under_air,
 droplet_in_air, bubble_rise_4x4, bubble_rise_8x8, dam_break_front,
-gas_thrown_up), or with --results rung 4's of a run of the paper's case
+paper_case, gas_thrown_up), or with --results rung 4's of a run of the paper's case
 (`mps2p run`'s results.h5): water suspended in the air and the widest hole in
 the gas, per snapshot."""
 import argparse
@@ -379,6 +379,65 @@ def dam_break_front(until=0.2, sample_every=0.05, path=None):
                                 zip(result["with_air"], result["without_air"]))
     return result
 
+def air_leaves(times, counts):
+    """Rung 4's air criterion from a gas_in_liquid series: its peak, when,
+    and the times from which it stays below a quarter and a tenth of it."""
+    times, counts = np.asarray(times), np.asarray(counts)
+    k = int(np.argmax(counts))
+    peak, at = float(counts[k]), float(times[k])
+
+    def stays_below(fraction):
+        above = np.flatnonzero((times > at) & (counts >= fraction * peak))
+        if not len(above):
+            return at
+        return float(times[above[-1] + 1]) if above[-1] + 1 < len(times) else None
+
+    return {"peak": peak, "peak_at": at, "quarter_from": stays_below(0.25),
+            "tenth_from": stays_below(0.1)}
+
+
+def paper_case(until=10.0, path=None, parameters=None, sample_every=0.005,
+               snapshot_every=0.05):
+    """Rung 4, the paper's case to `until` (the scene, or `parameters`
+    changed): the air criterion (air_leaves, from gas_in_liquid every
+    sample_every), the most air in the water after 3 s and at the end, the
+    most suspended water from 5 s on and the widest hole in the gas (every
+    snapshot_every), the most fluid particles outside the tank, steps."""
+    path = path or scene_path("ikari2003_dam_break_air")
+    sf = scenefile.load(path)
+    if parameters:
+        data = dict(sf.data)
+        data["parameters"] = dict(data.get("parameters", {}), **parameters)
+        sf = scenefile.SceneFile(path, sf.text, data)
+    tank = sf.data["tank"][0]["box"]
+    with sf.make_solver() as s:
+        kinds, ids = s.kinds(), s.fluid_ids()
+        fluid = kinds == 0
+        water = fluid & (ids == sf.fluids.index("water"))
+        light = fluid & (ids == sf.fluids.index("air"))
+        times, counts = [], []
+        suspended, holes, outside = [], [], 0
+        every = int(round(snapshot_every / sample_every))
+        for k in range(1, int(round(until / sample_every)) + 1):
+            s.advance_to(k * sample_every)
+            times.append(s.time)
+            counts.append(s.stat("gas_in_liquid"))
+            if k % every == 0:
+                r = s.positions()
+                if s.time >= 5.0 - 1e-9:
+                    suspended.append(suspended_water(r, water, sf.l0) / water.sum())
+                holes.append(widest_gas_hole(r, kinds, light, tank, sf.l0))
+                outside = max(outside, outside_tank(sf, r, fluid))
+        times, counts = np.array(times), np.array(counts)
+        result = air_leaves(times, counts)
+        result.update(until=until, steps=s.step_count,
+                      most_after_3s=float(counts[times >= 3.0 - 1e-9].max())
+                      if until >= 3.0 else None,
+                      at_end=float(counts[-1]),
+                      most_suspended_from_5s=max(suspended) if suspended else None,
+                      widest_gas_hole=max(holes), most_outside_tank=outside)
+        return result
+
 
 RUNGS = {
     "still_water_under_air": lambda until: still_water_under_air(until=until or 10.0),
@@ -386,6 +445,7 @@ RUNGS = {
     "bubble_rise_4x4": lambda until: bubble_rise("bubble_rise_4x4", until=until or 2.0),
     "bubble_rise_8x8": lambda until: bubble_rise("bubble_rise_8x8", until=until or 2.0),
     "dam_break_front": lambda until: dam_break_front(until=until or 0.2),
+    "paper_case": lambda until: paper_case(until=until or 10.0),
     "gas_thrown_up": lambda until: [gas_thrown_up(until=until or 0.3, buffer=b)
                                     for b in (True, False)],
 }
