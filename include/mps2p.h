@@ -267,8 +267,8 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  *                     gas PPE; docs/two-phase.md, a PROTOTYPE)
  *   effect.interface_reaction  "auto": on with two_phase and
  *                     two_phase_model "two_step_improved"
- *   effect.gas_buffer "auto": on with two_phase, gravity and
- *                     gas_buffer_depth > 0: the gas's top boundary, a layer
+ *   effect.gas_buffer "auto": on with two_phase, gravity,
+ *                     gas_buffer_depth > 0 and gas_buffer_rate > 0: the gas's top boundary, a layer
  *                     under the gas's top at the first step where the gas's
  *                     velocity is damped (gas_buffer_depth, gas_buffer_rate);
  *                     "off": an open top (docs/two-phase.md, rung 6)

@@ -314,6 +314,7 @@ static void test_two_phase_effects(void)
     CHECK(mps2p_solver_create(weightless, &weightless_solver) == MPS2P_ERR_INVALID &&
               !weightless_solver,
           "gas_buffer on without gravity accepted");
+    CHECK(strstr(mps2p_last_error(), "gas_buffer") != NULL, "message: %s", mps2p_last_error());
     mps2p_scene_destroy(weightless);
 
     /* the conventional model: two phases, no reaction */

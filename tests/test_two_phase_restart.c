@@ -45,7 +45,8 @@ static void run(mps2p_solver *solver, int steps)
 /* The two-phase statistics, which a restore puts back too. */
 static const char *const STATS[] = {"gas_triggered",     "gas_enclosed",       "gas_joined",
                                     "gas_pressure_max",  "gas_ppe_unknowns",   "gas_ppe_iterations",
-                                    "ppe_unknowns",      "ppe_iterations",     "ppe_residual"};
+                                    "ppe_unknowns",      "ppe_iterations",     "ppe_residual",
+                                    "gas_capped",        "gas_in_bubbles",     "gas_buffered"};
 #define STAT_COUNT (sizeof STATS / sizeof STATS[0])
 
 static void stats(const mps2p_solver *solver, double *out)

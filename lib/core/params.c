@@ -111,7 +111,7 @@ static const param_entry table[] = {
      "gas_buffer); 0 = none, an open top"},
     {"gas_buffer_rate", FIELD(gas_buffer_rate), 500.0, 0.0, 1e12,
      "damping rate of a gas particle's velocity at the damping layer's top and above, 1/s; "
-     "it grows as the square of the depth into the layer"},
+     "it grows as the square of the depth into the layer; 0 = no layer"},
     {"gas_pressure_limit", FIELD(gas_pressure_limit), 0.0, 0.0, BIG,
      "|gas pressure| above it means diverged (Pa); 0 = 1000 rho_light max(|g| L, 1 m^2/s^2)"},
     /* checked before allocating: with overcommit, malloc of too much succeeds and the

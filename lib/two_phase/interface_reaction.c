@@ -98,15 +98,9 @@ int interface_scan(mps2p_solver *s, double dt)
                 if (occupied[set][a] && occupied[set][a + 4] &&
                     rep[set][a] + closing < rep[set][a + 4])
                     closes[set] = 1;
-        /* A pair that closes only with a wall in it triggers gas inside the
-         * liquid (more liquid than light neighbours) only: liquid sliding
-         * along a wall closes on a wall particle ahead of it without
-         * pinching anything, and the gas beside it, at the foot of a
-         * collapsing column or ahead of a surge front on a dry floor, has
-         * the rest of the gas to move into. Triggered there, it joined the
-         * liquid solve as liquid volume and rode the front as the liquid's
-         * nose: the paper's dam break's front fell 0.028 m behind the
-         * water-only one by 0.1 s, 0.046 m by 0.2 s (docs/two-phase.md). */
+        /* A pair closing only with a wall in it triggers gas inside the liquid
+         * only: liquid sliding along a wall pinches nothing, and gas ahead of a
+         * surge on a dry floor, joined, rode the front (docs/two-phase.md). */
         int trigger = closes[0] || (closes[1] && more_liquid_than_light_neighbours(s, i));
         tp->triggered[i] = (unsigned char)trigger;
         tp->enclosed[i] = (unsigned char)all;

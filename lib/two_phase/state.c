@@ -160,11 +160,12 @@ int phases_carried_check(const mps2p_solver *s, char *why, size_t size)
              tp->gas_unknowns <= n;
     if (!ok) {
         snprintf(why, size, "inconsistent two-phase values (have_initial %d, gas pressure limit "
-                 "%g Pa, gas pressure max %g Pa, counts %zu, %zu, %zu, %zu, %zu, unknowns %zu, "
-                 "%zu of %zu particles)", tp->have_initial, tp->gas_pressure_limit,
-                 tp->gas_pressure_max, tp->triggered_count, tp->enclosed_count,
-                 tp->joined_count, tp->capped_count, tp->bubble_count, tp->heavy_unknowns,
-                 tp->gas_unknowns, n);
+                 "%g Pa, gas pressure max %g Pa, have_gas_top %d, gas top %g m, counts %zu, "
+                 "%zu, %zu, %zu, %zu, %zu, unknowns %zu, %zu of %zu particles)",
+                 tp->have_initial, tp->gas_pressure_limit, tp->gas_pressure_max,
+                 tp->have_gas_top, tp->gas_top, tp->triggered_count, tp->enclosed_count,
+                 tp->joined_count, tp->capped_count, tp->bubble_count, tp->buffered_count,
+                 tp->heavy_unknowns, tp->gas_unknowns, n);
         return -1;
     }
     return 0;

@@ -60,7 +60,7 @@ def test_gas_thrown_up_stays_in_the_tank():
     assert held["effect_on"] and held["diverged"] is None, held
     assert held["gas_highest_above_top"] < 1.0, held
     assert held["most_gas_outside_tank"] == 0, held
-    assert held["thrown_velocity_at_end"] < 0.01, held
+    assert held["thrown_velocity_at_end"] < 0.0, held  # sinking
     open_top = ladder.gas_thrown_up(buffer=False)
     assert not open_top["effect_on"], open_top
     assert open_top["thrown_highest_above_top"] > open_top["tank_top_above_gas_top"], open_top
@@ -71,7 +71,7 @@ def test_rung_4_measures_see_what_they_count():
     """The paper's case's measures on made-up particles: an isolated water
     particle in the air above the water counts as suspended, one under a
     layer of water in its column does not; an empty square 6 l0 wide in a
-    lattice of gas is a hole about 5 l0 wide, and a full lattice has none
+    lattice of gas is a hole about 6 l0 wide, and a full lattice has none
     wider than 1 l0."""
     import numpy as np
     l0 = 0.01

@@ -197,6 +197,7 @@ def bubble_rise(name, until=2.0, sample_every=0.01, path=None):
             "most_outside_tank": most_outside,
             "in_water": in_water[::10]}
 
+
 def gas_thrown_up(speed=3.0, until=0.3, buffer=True, sample_every=0.005, path=None):
     """Rung 6, the gas's top: rung 1's tank with the air particle at the top
     of the gas's middle column thrown up at `speed` m/s (the site left out of
@@ -271,7 +272,9 @@ def suspended_water(position, water, l0, radius=2.1):
     """Rung 4's water suspended in the air: water particles with no other
     water particle within `radius` l0 (isolated, as issue 15 counts spray)
     that lie above the top of the water body (the water that is not
-    isolated) in their l0-wide column, or in a column without it."""
+    isolated) in their l0-wide column, or in a column without it. A clump
+    of two or more held up in the air counts as water body: this sees
+    spray, not suspended blobs."""
     r = position[water]
     if len(r) == 0:
         return 0
@@ -298,6 +301,8 @@ def widest_gas_hole(position, kind, light, tank, l0):
     x0, y0, x1, _ = tank
     h = 0.5 * l0
     gas = position[light]
+    if len(gas) == 0:
+        return 0.0
     nx = int(math.floor((x1 - x0 - l0) / h)) + 1
     ny = int(math.floor((gas[:, 1].max() - y0 - l0) / h)) + 1
     if nx < 1 or ny < 1:
@@ -379,6 +384,7 @@ def dam_break_front(until=0.2, sample_every=0.05, path=None):
                                 zip(result["with_air"], result["without_air"]))
     return result
 
+
 def air_leaves(times, counts):
     """Rung 4's air criterion from a gas_in_liquid series: its peak, when,
     and the times from which it stays below a quarter and a tenth of it."""
@@ -389,7 +395,7 @@ def air_leaves(times, counts):
     def stays_below(fraction):
         above = np.flatnonzero((times > at) & (counts >= fraction * peak))
         if not len(above):
-            return at
+            return float(times[k + 1]) if k + 1 < len(times) else None
         return float(times[above[-1] + 1]) if above[-1] + 1 < len(times) else None
 
     return {"peak": peak, "peak_at": at, "quarter_from": stays_below(0.25),
