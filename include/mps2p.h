@@ -529,7 +529,8 @@ MPS2P_API int mps2p_solver_front(const mps2p_solver *solver, int fluid_id, doubl
  * ------------------------------------------------------------------------- */
 
 /* The physical effects, each on or off for this solver and why: *reason is
- * "inferred: ..." or "requested: ..." and stays valid while the solver lives.
+ * "inferred: ...", "requested: on; ..." or "requested: off; ..." (then what the
+ * scene has that decides it) and stays valid while the solver lives.
  * index runs from 0 to count - 1. Any output pointer may be NULL. */
 MPS2P_API int mps2p_solver_effect_count(const mps2p_solver *solver, size_t *count);
 MPS2P_API int mps2p_solver_get_effect(const mps2p_solver *solver, size_t index,

@@ -291,7 +291,7 @@ struct mps2p_solver {
     /* pressure solve */
     sparse_matrix matrix;
     double *rhs, *solution;
-    long *unknown_of;       /* particle -> unknown index or -1 */
+    int *unknown_of;        /* particle -> unknown index or -1 (the matrix's int rows) */
     linear_solver *linear;
 
     /* time and statistics */

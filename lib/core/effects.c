@@ -160,8 +160,11 @@ int effects_decide(mps2p_solver *s)
                         "effect %s is switched on, but the scene cannot support it: %s",
                         effects[e].name, why);
         s->effect_active[e] = mode == EFFECT_AUTO ? needed : mode == EFFECT_ON;
-        snprintf(s->effect_reason[e], sizeof s->effect_reason[e], "%s: %s",
-                 mode == EFFECT_AUTO ? "inferred" : "requested", why);
+        snprintf(s->effect_reason[e], sizeof s->effect_reason[e], "%s%s",
+                 mode == EFFECT_AUTO ? "inferred: "
+                 : mode == EFFECT_ON ? "requested: on; "
+                                     : "requested: off; ",
+                 why);
     }
     return MPS2P_OK;
 }

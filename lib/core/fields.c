@@ -57,7 +57,7 @@ static const field solver_rows[] = {
     FIELD("scratch", scratch, FIELD_DOUBLE, 2, PARTICLES),
     FIELD("rhs", rhs, FIELD_DOUBLE, 1, PARTICLES),
     FIELD("solution", solution, FIELD_DOUBLE, 1, PARTICLES),
-    FIELD("unknown_of", unknown_of, FIELD_LONG, 1, PARTICLES),
+    FIELD("unknown_of", unknown_of, FIELD_INT, 1, PARTICLES),
     /* only for the stages that need them (solver/plan.c) */
     FIELD("number_density_start", number_density_start, FIELD_DOUBLE, 1,
           PARTICLES | FIELD_ON_DEMAND),

@@ -158,9 +158,16 @@ static size_t block_count(size_t n)
     return (n + REDUCTION_BLOCK - 1) / REDUCTION_BLOCK;
 }
 
+/* Work vectors of n: CG's r, z, p, q and the inverse diagonal; the direct and
+ * multigrid solves only the residual check's product. */
+static size_t work_vectors(const linear_solver *ls)
+{
+    return ls->kind == PRESSURE_SOLVER_CG ? 5 : 1;
+}
+
 static double *partial_sums(const linear_solver *ls, size_t n)
 {
-    return ls->work + 5 * n;
+    return ls->work + work_vectors(ls) * n;
 }
 
 /* The sum of value[k] x[column[k]] for k in [first, end): four sums in turn,
@@ -240,7 +247,7 @@ static double relative_residual(const linear_solver *ls, const sparse_matrix *a,
 
 static int ensure_work(linear_solver *ls, size_t rows)
 {
-    size_t size = 5 * rows + 2 * block_count(rows);
+    size_t size = work_vectors(ls) * rows + 2 * block_count(rows);
     if (ls->work_size >= size)
         return MPS2P_OK;
     double *work = realloc(ls->work, size * sizeof *work);

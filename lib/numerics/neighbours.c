@@ -1,5 +1,9 @@
 /* Cell-linked list and a Verlet neighbour list reused by every stage, with
- * a short list of the pairs within the density radius taken from it. */
+ * a short list of the pairs within the density radius taken from it.
+ * Particle indices are stored in 4 bytes (half the memory of size_t; the
+ * lists are the solver's largest arrays) and a build marks a short-list pair
+ * in an index's low bit (2 j + 1): the particle limit of scenes and
+ * checkpoints, INT_MAX / 2, keeps both below 2^32. */
 #include "numerics/numerics.h"
 
 #include <math.h>
@@ -40,11 +44,10 @@ int neighbours_init(neighbour_list *list, size_t count, double cutoff, double sk
     list->cell_start = malloc((cells + 1) * sizeof *list->cell_start);
     list->cell_cursor = malloc(cells * sizeof *list->cell_cursor);
     list->cell_particle = malloc(count * sizeof *list->cell_particle);
-    list->particle_cell = malloc(count * sizeof *list->particle_cell);
     if (list->short_radius > 0.0)
         list->short_start = calloc(count + 1, sizeof *list->short_start);
     if (!list->start || !list->built_at || !list->cell_start || !list->cell_cursor ||
-        !list->cell_particle || !list->particle_cell ||
+        !list->cell_particle ||
         (list->short_radius > 0.0 && !list->short_start)) {
         neighbours_free(list);
         return MPS2P_ERR_NOMEM;
@@ -60,7 +63,6 @@ void neighbours_free(neighbour_list *list)
     free(list->cell_start);
     free(list->cell_cursor);
     free(list->cell_particle);
-    free(list->particle_cell);
     free(list->short_start);
     free(list->short_index);
     memset(list, 0, sizeof *list);
@@ -74,6 +76,17 @@ static size_t cell_coordinate(double x, double origin, double size, size_t cells
     if (c >= (double)cells)
         return cells - 1;
     return (size_t)c;
+}
+
+/* The cell particle i is in: computed again where needed rather than stored
+ * (8 bytes a particle); the same positions give the same cell. */
+static size_t cell_of(const neighbour_list *list, const double *position, size_t i)
+{
+    size_t cx = cell_coordinate(position[2 * i], list->origin[0], list->cell_size,
+                                list->cells[0]);
+    size_t cy = cell_coordinate(position[2 * i + 1], list->origin[1], list->cell_size,
+                                list->cells[1]);
+    return cy * list->cells[0] + cx;
 }
 
 static int needs_rebuild(const neighbour_list *list, const double *position)
@@ -97,19 +110,13 @@ static void sort_into_cells(neighbour_list *list, const double *position)
 {
     size_t cells = list->cells[0] * list->cells[1];
     memset(list->cell_start, 0, (cells + 1) * sizeof *list->cell_start);
-    for (size_t i = 0; i < list->count; i++) {
-        size_t cx = cell_coordinate(position[2 * i], list->origin[0], list->cell_size,
-                                    list->cells[0]);
-        size_t cy = cell_coordinate(position[2 * i + 1], list->origin[1], list->cell_size,
-                                    list->cells[1]);
-        list->particle_cell[i] = cy * list->cells[0] + cx;
-        list->cell_start[list->particle_cell[i] + 1]++;
-    }
+    for (size_t i = 0; i < list->count; i++)
+        list->cell_start[cell_of(list, position, i) + 1]++;
     for (size_t c = 0; c < cells; c++)
         list->cell_start[c + 1] += list->cell_start[c];
     memcpy(list->cell_cursor, list->cell_start, cells * sizeof *list->cell_cursor);
     for (size_t i = 0; i < list->count; i++)
-        list->cell_particle[list->cell_cursor[list->particle_cell[i]]++] = i;
+        list->cell_particle[list->cell_cursor[cell_of(list, position, i)]++] = (uint32_t)i;
 }
 
 /* Entries taken from one cell at a time before merging (a cell's pairs are
@@ -118,7 +125,7 @@ static void sort_into_cells(neighbour_list *list, const double *position)
 
 /* Merges the sorted run in[0..r) into the sorted row out[0..m), from the back,
  * so that out[0..m+r) is sorted; returns m + r. */
-static size_t merge_into(size_t *out, size_t m, const size_t *in, size_t r)
+static size_t merge_into(uint32_t *out, size_t m, const uint32_t *in, size_t r)
 {
     if (m == 0 || out[m - 1] < in[0]) { /* the runs do not overlap: append */
         memcpy(out + m, in, r * sizeof *in);
@@ -145,19 +152,19 @@ static size_t merge_into(size_t *out, size_t m, const size_t *in, size_t r)
  * order (sort_into_cells), so each cell gives a sorted run, and the row is
  * the merge of those runs: no general sort. */
 static size_t gather(const neighbour_list *list, const double *position, size_t i,
-                     size_t *out, size_t *short_out, size_t *near)
+                     uint32_t *out, uint32_t *short_out, size_t *near)
 {
     double cut2 = list->cutoff * list->cutoff;
     const int with_short = list->short_start != NULL;
     const double short_cut = list->short_radius + list->skin;
     const double short_cut2 = with_short ? short_cut * short_cut : 0.0;
     const double xi = position[2 * i], yi = position[2 * i + 1];
-    size_t c = list->particle_cell[i];
+    size_t c = cell_of(list, position, i);
     long cx = (long)(c % list->cells[0]), cy = (long)(c / list->cells[0]);
     long x0 = cx > 0 ? cx - 1 : 0;
     long x1 = cx + 1 < (long)list->cells[0] ? cx + 1 : cx;
     size_t found = 0, found_near = 0;
-    size_t run[MERGE_CHUNK];
+    uint32_t run[MERGE_CHUNK];
     for (long y = cy - 1; y <= cy + 1; y++) {
         if (y < 0 || y >= (long)list->cells[1])
             continue;
@@ -187,7 +194,7 @@ static size_t gather(const neighbour_list *list, const double *position, size_t 
                     if (d2 < cut2 && j != i) {
                         int is_near = d2 < short_cut2;
                         /* with a short list, the low bit marks its pairs until split */
-                        run[taken++] = with_short ? 2 * j + (size_t)is_near : j;
+                        run[taken++] = (uint32_t)(with_short ? 2 * j + (size_t)is_near : j);
                         found_near += (size_t)is_near;
                     }
                 }
@@ -201,9 +208,10 @@ static size_t gather(const neighbour_list *list, const double *position, size_t 
          * pair is written to the next near one's slot, or past the row's last
          * near one into sink; never into the next row, which another thread
          * may be filling. */
-        size_t stored = 0, sink;
+        size_t stored = 0;
+        uint32_t sink;
         for (size_t k = 0; k < found; k++) {
-            size_t j = out[k] / 2;
+            uint32_t j = out[k] / 2;
             *(stored < found_near ? short_out + stored : &sink) = j;
             stored += out[k] % 2;
             out[k] = j;
@@ -215,12 +223,14 @@ static size_t gather(const neighbour_list *list, const double *position, size_t 
 }
 
 /* Grows an index array to hold total entries; 0 when it cannot. */
-static int reserve(size_t **index, size_t *capacity, size_t total)
+static int reserve(uint32_t **index, size_t *capacity, size_t total)
 {
     if (total <= *capacity)
         return 1;
-    size_t grown_capacity = total + total / 4 + 16;
-    size_t *grown = realloc(*index, grown_capacity * sizeof *grown);
+    /* a sixteenth to spare: the lists are the solver's largest arrays, and
+     * realloc grows a large block in place or by remapping its pages */
+    size_t grown_capacity = total + total / 16 + 16;
+    uint32_t *grown = realloc(*index, grown_capacity * sizeof *grown);
     if (!grown)
         return 0;
     *index = grown;
@@ -242,9 +252,9 @@ static int fail_growth(neighbour_list *list)
 }
 
 /* Particles in the 3x3 cells around particle i: a bound on its row. */
-static size_t candidates(const neighbour_list *list, size_t i)
+static size_t candidates(const neighbour_list *list, const double *position, size_t i)
 {
-    size_t c = list->particle_cell[i], columns = list->cells[0];
+    size_t c = cell_of(list, position, i), columns = list->cells[0];
     size_t cx = c % columns, cy = c / columns;
     size_t x0 = cx > 0 ? cx - 1 : 0, x1 = cx + 1 < columns ? cx + 1 : cx;
     size_t y0 = cy > 0 ? cy - 1 : 0, y1 = cy + 1 < list->cells[1] ? cy + 1 : cy;
@@ -264,7 +274,7 @@ static int build_in_one_pass(neighbour_list *list, const double *position)
     if (with_short)
         list->short_start[0] = 0;
     for (size_t i = 0; i < list->count; i++) {
-        size_t bound = candidates(list, i);
+        size_t bound = candidates(list, position, i);
         /* the short index keeps one spare slot, so it is never NULL */
         if (!reserve(&list->index, &list->capacity, total + bound) ||
             (with_short &&

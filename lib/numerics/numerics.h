@@ -80,21 +80,21 @@ typedef struct neighbour_list {
     double cutoff, skin;
     size_t count;
     size_t *start;       /* count + 1 */
-    size_t *index;       /* start[count] entries */
+    uint32_t *index;     /* start[count] entries (4-byte particle indices: see
+                          * neighbours_init) */
     size_t capacity;
     double short_radius; /* 0 = no short list (it would be the long one) */
     size_t *short_start; /* count + 1, NULL without a short list */
-    size_t *short_index; /* short_start[count] entries */
+    uint32_t *short_index; /* short_start[count] entries */
     size_t short_capacity;
     double *built_at;    /* positions at the last build, 2 * count */
     /* cell grid over the domain */
     double origin[2];
     double cell_size;
     size_t cells[2];
-    size_t *cell_start;  /* cells + 1 */
-    size_t *cell_cursor; /* cells, fill position while sorting */
-    size_t *cell_particle;
-    size_t *particle_cell;
+    uint32_t *cell_start;  /* cells + 1 */
+    uint32_t *cell_cursor; /* cells, fill position while sorting */
+    uint32_t *cell_particle;
     unsigned long builds;
     int stale;           /* a rebuild failed half-way: rebuild at the next update */
     double threads;      /* parameter threads (team_size) */
@@ -121,7 +121,8 @@ int neighbours_restore(neighbour_list *list, const double *built_at, unsigned lo
  * or beyond sees the same pairs, in the same order, from either: its sums
  * come out bit for bit the same. */
 typedef struct neighbour_rows {
-    const size_t *start, *index;
+    const size_t *start;
+    const uint32_t *index;
 } neighbour_rows;
 
 static inline neighbour_rows neighbour_rows_within(const neighbour_list *list, double radius)

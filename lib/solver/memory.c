@@ -20,7 +20,7 @@ size_t solver_memory_bytes(const mps2p_solver *s)
         bytes += (nl->count + 1) * sizeof *nl->short_start +
                  nl->short_capacity * sizeof *nl->short_index;
     bytes += (2 * nl->cells[0] * nl->cells[1] + 1) * sizeof *nl->cell_start;
-    bytes += 2 * nl->count * sizeof *nl->cell_particle;
+    bytes += nl->count * sizeof *nl->cell_particle;
     bytes += s->matrix.row_capacity * sizeof *s->matrix.row_start;
     bytes += s->matrix.capacity * (sizeof *s->matrix.column + sizeof *s->matrix.value);
     return bytes + linear_solver_memory(s->linear);

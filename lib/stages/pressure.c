@@ -23,7 +23,9 @@ static int grow_matrix(sparse_matrix *m, int rows, size_t entries)
         m->row_capacity = (size_t)rows + 1;
     }
     if (entries > m->capacity) {
-        size_t capacity = entries + entries / 4 + 16;
+        /* a sixteenth to spare: the pattern grows by a few entries a step
+         * at most, and the matrix is the solver's second-largest array */
+        size_t capacity = entries + entries / 16 + 16;
         int *column = realloc(m->column, capacity * sizeof *column);
         if (column)
             m->column = column;
@@ -116,7 +118,7 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
     /* Number the unknowns in particle order. */
     long unknowns = 0;
     for (size_t i = 0; i < s->count; i++)
-        s->unknown_of[i] = (takes_part(s, sys, i) && !sys->surface[i]) ? unknowns++ : -1;
+        s->unknown_of[i] = (takes_part(s, sys, i) && !sys->surface[i]) ? (int)unknowns++ : -1;
     sys->unknowns = (size_t)unknowns;
     sys->iterations = 0;
     sys->residual = 0.0;

@@ -15,23 +15,11 @@
 
 #include <math.h>
 
-/* "up", against gravity; 0 when there is none */
-static int up_direction(const mps2p_solver *s, double up[2])
-{
-    const double *g = s->params.gravity;
-    double size = hypot(g[0], g[1]);
-    if (!(size > 0.0))
-        return 0;
-    up[0] = -g[0] / size;
-    up[1] = -g[1] / size;
-    return 1;
-}
-
 void gas_buffer_reference(mps2p_solver *s)
 {
     two_phase *tp = s->phases;
     double up[2];
-    if (!up_direction(s, up))
+    if (!gravity_up(s, up))
         return;
     const double *r = s->state.position;
     double top = -INFINITY;
@@ -49,7 +37,7 @@ int gas_buffer_apply(mps2p_solver *s, double dt)
     two_phase *tp = s->phases;
     double up[2];
     tp->buffered_count = 0;
-    if (!tp->have_gas_top || !up_direction(s, up))
+    if (!tp->have_gas_top || !gravity_up(s, up))
         return MPS2P_OK;
     const double depth = s->params.gas_buffer_depth * s->l0;
     const double bottom = tp->gas_top - depth, rate = s->params.gas_buffer_rate;

@@ -58,8 +58,8 @@ size_t gas_in_liquid_count(const mps2p_solver *s)
     const two_phase *tp = s->phases;
     if (!tp || !s->neighbours.start)
         return 0;
-    double gx = s->params.gravity[0], gy = s->params.gravity[1], g = hypot(gx, gy);
-    const double up[2] = {g > 0.0 ? -gx / g : 0.0, g > 0.0 ? -gy / g : 1.0};
+    double up[2];
+    gravity_up(s, up);
     size_t count = 0;
     for (size_t i = 0; i < s->count; i++)
         count += tp->light[i] &&

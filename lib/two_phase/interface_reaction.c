@@ -195,8 +195,8 @@ int interface_drift_apply(mps2p_solver *s, double dt)
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     double *r = s->state.position, *u = s->state.velocity;
     const double *gravity = s->params.gravity;
-    double g = hypot(gravity[0], gravity[1]);
-    double up[2] = {g > 0.0 ? -gravity[0] / g : 0.0, g > 0.0 ? -gravity[1] / g : 1.0};
+    double up[2];
+    gravity_up(s, up);
     const int gravity_on = s->effect_active[EFFECT_GRAVITY];
     const double rise = s->params.bubble_rise_velocity;
     const double relax = 1.0 - exp(-dt / s->params.bubble_relaxation_time);

@@ -9,6 +9,8 @@
 
 #include "stages/stages.h"
 
+#include <math.h>
+
 /* State of the two-step pressure. Allocated by the plan only when effect
  * two_phase is on; a single-phase solver never holds one. */
 typedef struct two_phase {
@@ -98,5 +100,16 @@ int moves_with_liquid(const mps2p_solver *s, size_t i);
 size_t gas_in_liquid_count(const mps2p_solver *s);     /* gas_in_liquid.c */
 /* A light particle with more heavy-fluid than light-fluid neighbours within re. */
 int more_liquid_than_light_neighbours(const mps2p_solver *s, size_t i);
+/* "Up", against gravity: returns 1 with up = -g / |g|, or 0 with up = (0, 1)
+ * when there is no gravity. */
+static inline int gravity_up(const mps2p_solver *s, double up[2])
+{
+    const double *g = s->params.gravity;
+    double size = hypot(g[0], g[1]);
+    int have = size > 0.0;
+    up[0] = have ? -g[0] / size : 0.0;
+    up[1] = have ? -g[1] / size : 1.0;
+    return have;
+}
 
 #endif

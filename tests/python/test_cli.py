@@ -40,6 +40,17 @@ def test_run_writes_results(tmp_path):
     assert (tmp_path / "results.h5").exists() and not (tmp_path / "snapshots.png").exists()
 
 
+def test_series_times_are_each_sampled_once(tmp_path):
+    # snapshots every 0.05 s, series every 0.005 s: 0.15 = 3 x 0.05 and 30 x 0.005
+    # differ in the last bit, and were sampled twice
+    result = mps2p("run", os.path.join(SCENES, "dam_break.toml"), "--out", str(tmp_path),
+                   "--until", "0.31", "--no-pictures", "--quiet")
+    assert result.returncode == 0, result.stderr
+    times = np.loadtxt(tmp_path / "series.csv", delimiter=",", skiprows=1, usecols=0)
+    assert np.all(np.diff(times) > 1e-6), times[np.flatnonzero(np.diff(times) <= 1e-6)]
+    assert len(times) == 1 + 62  # t = 0, then 0.005 ... 0.31 (the end one of them)
+
+
 def test_info_with_a_scene_describes_it_without_running():
     result = mps2p("info", os.path.join(SCENES, "hydrostatic.toml"))
     assert result.returncode == 0, result.stderr
@@ -84,7 +95,12 @@ def test_examples_are_listed_and_run_by_name(tmp_path):
     assert described["name"] == "hydrostatic"
     unknown = mps2p("run", "no_such_scene", cwd=tmp_path)
     assert unknown.returncode == 2 and unknown.stderr.count("\n") == 1
-    assert "no_such_scene" in unknown.stderr
+    # a misspelt example is named as neither a file nor an example, with the examples
+    assert unknown.stderr.startswith("mps2p: no_such_scene: neither a scene file nor an "
+                                     "example scene (examples: ")
+    assert "dam_break" in unknown.stderr and "mps2p examples" in unknown.stderr
+    missing = mps2p("run", os.path.join("no_folder", "scene.toml"), cwd=tmp_path)
+    assert missing.returncode == 2 and "scene.toml" in missing.stderr
 
 
 def test_version():

@@ -157,5 +157,5 @@ def test_effects_table_switches_effects(tmp_path):
     path = write(tmp_path, GOOD.replace("[[tank]]", "[effects]\ncollision = \"off\"\n[[tank]]"))
     summary = run(path, str(tmp_path / "out"), pictures=False)
     assert summary["effects"]["collision"] == {
-        "active": False, "reason": "requested: collision_distance is 0.995 l0"}
+        "active": False, "reason": "requested: off; collision_distance is 0.995 l0"}
     assert "collision" not in summary["stage_seconds"]

@@ -119,8 +119,12 @@ def find_header(library_path):
     for candidate in candidates:
         if os.path.exists(candidate):
             return candidate
-    raise ImportError("libmps2p not found (no mps2p.h beside %s, through pkg-config or in a "
-                      "checkout): %s" % (library_path, HOW_TO_INSTALL))
+    if os.sep not in library_path:  # find_library's last resort: the loader's search
+        raise ImportError("libmps2p not found (not in the package, MPS2P_LIBRARY not set, "
+                          "pkg-config does not know mps2p; its header is nowhere either): %s"
+                          % HOW_TO_INSTALL)
+    raise ImportError("libmps2p's header mps2p.h not found (not beside %s, not through "
+                      "pkg-config, not in a checkout): %s" % (library_path, HOW_TO_INSTALL))
 
 
 def load():

@@ -16,6 +16,7 @@ class Progress:
         self.started = clock.perf_counter()
         self.last_draw = 0.0
         self.first_step = None
+        self.written_steps = None  # off a terminal: the step count of the last line
 
     def update(self, solver, snapshot=False, final=False):
         """Redraws (at most five times a second on a terminal); returns False
@@ -29,6 +30,8 @@ class Progress:
             return False
         if not self.terminal and not (snapshot or final):
             return False
+        if not self.terminal and final and solver.step_count == self.written_steps:
+            return False  # the last snapshot's line said it already
         self.last_draw = now
         wall = now - self.started
         t, steps = solver.time, solver.step_count
@@ -43,6 +46,7 @@ class Progress:
             sys.stderr.write("\r" + line + ("\n" if final else ""))
         else:
             sys.stderr.write(line + "\n")
+            self.written_steps = steps
         sys.stderr.flush()
         return False
 

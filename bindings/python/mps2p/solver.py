@@ -207,7 +207,8 @@ class Solver(Owned):
     # -- effects and costs -------------------------------------------------
     def effects(self):
         """{name: (active, reason)} of every physical effect, in the library's
-        order; reason starts with "inferred:" or "requested:"."""
+        order; reason starts with "inferred: ", "requested: on; " or
+        "requested: off; ", then what the scene has that decides it."""
         count = ffi.new("size_t *")
         check(lib.mps2p_solver_effect_count(self.handle, count))
         name, active, reason = ffi.new("char **"), ffi.new("int *"), ffi.new("char **")

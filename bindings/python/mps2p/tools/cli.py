@@ -114,7 +114,11 @@ def main(argv=None):
     warnings.showwarning = _show_warning
     if getattr(args, "scene", None):
         from .examples import resolve_scene
-        args.scene = resolve_scene(args.scene)
+        try:
+            args.scene = resolve_scene(args.scene)
+        except KeyError as e:
+            print("mps2p: %s" % e.args[0], file=sys.stderr)
+            return 2
     try:
         if args.command == "run":
             return _run(args)

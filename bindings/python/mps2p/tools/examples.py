@@ -22,15 +22,17 @@ def example_path(name):
 
 
 def resolve_scene(argument):
-    """A scene argument of the command: an existing file as given, else the
-    example of that name, else the argument itself (whose reading then fails
-    with the file's name)."""
+    """A scene argument of the command: an existing file, or a path (whose
+    reading then fails with the file's name), as given; else the example of
+    that name; else KeyError, saying it is neither and listing the examples."""
     if os.path.exists(argument) or os.sep in argument:
         return argument
     try:
         return example_path(argument)
     except KeyError:
-        return argument
+        raise KeyError("%s: neither a scene file nor an example scene (examples: %s; "
+                       "'mps2p examples' describes them)"
+                       % (argument, ", ".join(example_names()))) from None
 
 
 __all__ = ["example_names", "example_path", "resolve_scene", "SCENES"]

@@ -1,5 +1,6 @@
 """Running a scene file: snapshots and probe series into one HDF5 file (with
 its XDMF sidecar), series.csv, summary.json and pictures."""
+import bisect
 import json
 import math
 import os
@@ -107,7 +108,8 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False):
                                       PICTURE_SNAPSHOTS).round().astype(int))
         picture_times = [candidates[k] for k in picks]
     series_every = scene_file.series_every
-    events = sorted(snapshot_times | set(_schedule(end, series_every) if series_every > 0 else []))
+    series_times = _schedule(end, series_every) if series_every > 0 else []
+    events = _merged(snapshot_times, series_times, end)
     pictures_data, rows = [], []
     status, reason, diverged_particle = "ok", "", -1
     bar = Progress(end, n, progress)
@@ -228,6 +230,20 @@ def make_output_folder(path):
                                % (path, e.strerror or e)) from None
     if not os.access(path, os.W_OK | os.X_OK):
         raise errors.FileError("output folder %s: not writable" % path)
+
+
+def _merged(snapshot_times, series_times, end):
+    """The sorted times to stop at: the snapshot times, and the series times
+    that are not one of them (0.3 = 6 x 0.05 and 60 x 0.005 differ in the last
+    bit: one stop, the snapshot's, not two)."""
+    ordered = sorted(snapshot_times)
+    tolerance = 1e-9 * max(1.0, end)
+    events = set(ordered)
+    for t in series_times:
+        k = bisect.bisect_left(ordered, t - tolerance)
+        if not (k < len(ordered) and ordered[k] <= t + tolerance):
+            events.add(t)
+    return sorted(events)
 
 
 def _on_schedule(t, times, end):
