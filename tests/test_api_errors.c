@@ -196,6 +196,13 @@ int main(void)
     EXPECT(mps2p_scene_set_param(scene, "beta", 1.5), MPS2P_ERR_INVALID, "beta must be in");
     EXPECT(mps2p_scene_set_param(scene, "dt", -1e-3), MPS2P_ERR_INVALID, "dt must be in");
     EXPECT(mps2p_scene_set_param(scene, "no_such", 1.0), MPS2P_ERR_UNKNOWN_KEY, "no_such");
+    CHECK(strstr(mps2p_last_error(), "did you mean") == NULL, "a far miss gets no suggestion: %s",
+          mps2p_last_error());
+    /* a near miss names the key meant */
+    EXPECT(mps2p_scene_set_param(scene, "cfll", 1.0), MPS2P_ERR_UNKNOWN_KEY,
+           "unknown parameter \"cfll\" (did you mean \"cfl\"?)");
+    EXPECT(mps2p_scene_set_param(scene, "collision_distanse", 1.0), MPS2P_ERR_UNKNOWN_KEY,
+           "(did you mean \"collision_distance\"?)");
     EXPECT(mps2p_scene_get_param(scene, "no_such", &value), MPS2P_ERR_UNKNOWN_KEY, "no_such");
     EXPECT(mps2p_scene_set_option(scene, "pressure_solver", "lu"), MPS2P_ERR_INVALID, "\"lu\"");
     MUST(mps2p_scene_get_param(scene, "beta", &value));
@@ -311,6 +318,10 @@ int main(void)
     EXPECT(mps2p_scene_set_option(scene, NULL, "cg"), MPS2P_ERR_NULL, "NULL");
     EXPECT(mps2p_scene_set_option(scene, "pressure_solver", NULL), MPS2P_ERR_NULL, "NULL");
     EXPECT(mps2p_scene_set_option(scene, "nonsense", "cg"), MPS2P_ERR_UNKNOWN_KEY, "nonsense");
+    EXPECT(mps2p_scene_set_option(scene, "pressure_solvr", "cg"), MPS2P_ERR_UNKNOWN_KEY,
+           "(did you mean \"pressure_solver\"?)");
+    EXPECT(mps2p_scene_set_option(scene, "shceme", "corrected"), MPS2P_ERR_UNKNOWN_KEY,
+           "(did you mean \"scheme\"?)");
     EXPECT(mps2p_scene_get_option(scene, "nonsense", &text), MPS2P_ERR_UNKNOWN_KEY, "nonsense");
     EXPECT(mps2p_scene_get_option(scene, "pressure_solver", NULL), MPS2P_ERR_NULL, "NULL");
     EXPECT(mps2p_param_info(100000, &text, NULL, NULL), MPS2P_ERR_INVALID, "past the last");

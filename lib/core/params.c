@@ -178,6 +178,58 @@ static const param_entry *find(const char *key)
     return NULL;
 }
 
+/* Edit distance (insertions, deletions, substitutions) of two short keys;
+ * longer keys than KEY_MAX count as far from everything. */
+#define KEY_MAX 64
+static size_t edit_distance(const char *a, const char *b)
+{
+    size_t n = strlen(a), m = strlen(b);
+    if (n >= KEY_MAX || m >= KEY_MAX)
+        return (size_t)-1;
+    size_t row[KEY_MAX + 1];
+    for (size_t j = 0; j <= m; j++)
+        row[j] = j;
+    for (size_t i = 1; i <= n; i++) {
+        size_t diagonal = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= m; j++) {
+            size_t above = row[j];
+            size_t best = diagonal + (a[i - 1] != b[j - 1]);
+            if (above + 1 < best)
+                best = above + 1;
+            if (row[j - 1] + 1 < best)
+                best = row[j - 1] + 1;
+            row[j] = best;
+            diagonal = above;
+        }
+    }
+    return row[m];
+}
+
+/* " (did you mean \"x\"?)" for the nearest of count names given by name_at,
+ * when it is a near miss (a third of the key's letters, at least two, at most);
+ * "" otherwise. */
+static void near_miss(const char *key, const char *(*name_at)(size_t), size_t count, char *out,
+                      size_t size)
+{
+    const char *nearest = NULL;
+    size_t best = (size_t)-1;
+    for (size_t i = 0; i < count; i++) {
+        size_t d = edit_distance(key, name_at(i));
+        if (d < best) {
+            best = d;
+            nearest = name_at(i);
+        }
+    }
+    size_t allowed = strlen(key) / 3 > 2 ? strlen(key) / 3 : 2;
+    if (nearest && best <= allowed)
+        snprintf(out, size, " (did you mean \"%s\"?)", nearest);
+    else if (size > 0)
+        out[0] = '\0';
+}
+
+static const char *param_name_at(size_t i) { return table[i].key; }
+
 static double *slot(params *p, const param_entry *e)
 {
     return (double *)((char *)p + e->offset);
@@ -203,7 +255,9 @@ int params_set(params *p, const char *key, double value, char *message, size_t s
 {
     const param_entry *e = find(key);
     if (!e) {
-        snprintf(message, size, "unknown parameter \"%s\"", key);
+        char hint[KEY_MAX + 32];
+        near_miss(key, param_name_at, TABLE_SIZE, hint, sizeof hint);
+        snprintf(message, size, "unknown parameter \"%s\"%s", key, hint);
         return MPS2P_ERR_UNKNOWN_KEY;
     }
     if (!isfinite(value)) {
@@ -345,7 +399,9 @@ int params_set_option(params *p, const char *key, const char *value,
         return scheme_set(p, value, message, size);
     const option_entry *e = find_option(key);
     if (!e) {
-        snprintf(message, size, "unknown option \"%s\"", key);
+        char hint[KEY_MAX + 32];
+        near_miss(key, params_option_key, OPTION_COUNT + 1, hint, sizeof hint);
+        snprintf(message, size, "unknown option \"%s\"%s", key, hint);
         return MPS2P_ERR_UNKNOWN_KEY;
     }
     if (e->offset == offsetof(params, pressure_solver) && strcmp(value, "gamg") == 0 &&
