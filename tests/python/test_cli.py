@@ -101,6 +101,10 @@ def test_examples_are_listed_and_run_by_name(tmp_path):
     assert "dam_break" in unknown.stderr and "mps2p examples" in unknown.stderr
     missing = mps2p("run", os.path.join("no_folder", "scene.toml"), cwd=tmp_path)
     assert missing.returncode == 2 and "scene.toml" in missing.stderr
+    # a file name that is not here but is an example's: run, and said so
+    named = mps2p("check", "hydrostatic.toml", cwd=tmp_path)
+    assert named.returncode == 0 and json.loads(named.stdout)["name"] == "hydrostatic"
+    assert "hydrostatic.toml: no such file here; the example scene of that name" in named.stderr
 
 
 def test_version():

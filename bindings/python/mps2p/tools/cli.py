@@ -115,10 +115,15 @@ def main(argv=None):
     if getattr(args, "scene", None):
         from .examples import resolve_scene
         try:
-            args.scene = resolve_scene(args.scene)
+            resolved = resolve_scene(args.scene)
         except KeyError as e:
             print("mps2p: %s" % e.args[0], file=sys.stderr)
             return 2
+        if resolved != args.scene and args.scene.endswith(".toml"):
+            # a file name that is not here: say which scene runs instead
+            print("mps2p: %s: no such file here; the example scene of that name" % args.scene,
+                  file=sys.stderr)
+        args.scene = resolved
     try:
         if args.command == "run":
             return _run(args)
