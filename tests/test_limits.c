@@ -38,7 +38,7 @@ static void test_memory_limit(void)
     size_t count = 1;
     MUST(mps2p_scene_particle_count(scene, &count));
     CHECK(count == 0, "a refused box added %zu particles", count);
-    /* 1e6 particles: a 44 MB scene fits 500 MB, their solver (over 800 bytes
+    /* 1e6 particles: a 44 MB scene fits 500 MB, their solver (about 800 bytes
      * each) does not */
     MUST(mps2p_scene_set_param(scene, "memory_limit", 5e8));
     MUST(mps2p_scene_add_fluid_box(scene, water, 0, 0, 1, 1));

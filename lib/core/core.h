@@ -6,7 +6,16 @@
 
 #include "numerics/numerics.h"
 
+#include <limits.h>
+#include <stdint.h>
+
 #define ERROR_MESSAGE_SIZE 512
+/* Most particles a scene or checkpoint may hold: the pressure matrix's
+ * indices are int, and the neighbour lists store 4-byte indices with a mark
+ * in the low bit during a build (2 j + 1, numerics.h). */
+#define MAX_PARTICLES ((size_t)INT_MAX / 2)
+_Static_assert(2 * (MAX_PARTICLES - 1) + 1 <= UINT32_MAX,
+               "neighbour indices (marked 2 j + 1) must fit 4 bytes");
 /* Particle coordinates must lie within this many l0 of the origin: there a
  * double still resolves 2.2e-7 l0, so boxes keep every lattice site (at
  * 1e11 m a 0.02 m lattice lost particles to rounding). */

@@ -57,13 +57,19 @@ double solver_bytes_estimate(const params *p, size_t n)
             per_particle += field_bytes(f, 1) * (f->flags & FIELD_ROLLED_BACK ? 2 : 1);
     }
     const double arrays = (double)per_particle;
-    /* lattice sites within the list's cutoff and the short list's: pi r^2 */
+    /* lattice sites within the list's cutoff and the short list's: pi r^2, a
+     * 4-byte index each (numerics.h); the two row starts, the build's
+     * positions and the particle's slot in the cell grid */
     const double skin = p->neighbour_skin, pi = 3.14159265358979;
     const double cutoff = params_max_radius(p) + skin, near = p->re_density + skin;
     const double pairs = pi * (cutoff * cutoff + near * near);
-    const double list = pairs * sizeof(size_t) + 2 * sizeof(size_t) + 2 * sizeof(double) +
-                        2 * sizeof(size_t);
-    return (double)n * (arrays + list);
+    const double list = pairs * sizeof(uint32_t) + 2 * sizeof(size_t) + 2 * sizeof(double) +
+                        sizeof(uint32_t);
+    /* the pressure matrix, every particle an unknown: its pairs within
+     * re_laplacian and the diagonal, an int column and a double value each */
+    const double matrix = (pi * p->re_laplacian * p->re_laplacian + 1.0) *
+                              (sizeof(int) + sizeof(double)) + sizeof(int);
+    return (double)n * (arrays + list + matrix);
 }
 
 int memory_check(const params *p, double bytes, const char *what, char *handle_error)

@@ -7,8 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The pressure matrix uses int indices. */
-#define MAX_PARTICLES ((size_t)INT_MAX / 2)
 
 #define CHECK_SCENE(scene)                                                      \
     do {                                                                        \

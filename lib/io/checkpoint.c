@@ -29,8 +29,6 @@
  * (format 3 and older) are read unchecked, as before; a file without it
  * claiming format 4 or later is refused. */
 #define LAST_UNSEALED_VERSION 3
-/* as in scene.c: the pressure matrix uses int indices */
-#define MAX_PARTICLES ((size_t)INT_MAX / 2)
 
 static hid_t h5_type(const field *f)
 {

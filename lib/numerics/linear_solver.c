@@ -27,7 +27,8 @@ struct linear_solver {
     int pattern_rows;
     size_t pattern_capacity; /* of pattern_column */
     uint64_t analyses;       /* symbolic analyses so far */
-    double *work; /* 5 vectors for CG (the first also serves the residual), then
+    double *work; /* work_vectors(): 5 for CG, 1 for CHOLMOD and gamg (the first
+                     serves the residual check), then
                      2 partial sums a block (REDUCTION_BLOCK) */
     size_t work_size;
     /* IC(0): L, the lower triangle of A's pattern, in compressed rows, each

@@ -3,7 +3,8 @@
  * Particle indices are stored in 4 bytes (half the memory of size_t; the
  * lists are the solver's largest arrays) and a build marks a short-list pair
  * in an index's low bit (2 j + 1): the particle limit of scenes and
- * checkpoints, INT_MAX / 2, keeps both below 2^32. */
+ * checkpoints, MAX_PARTICLES (core.h, which asserts it), keeps both below
+ * 2^32. */
 #include "numerics/numerics.h"
 
 #include <math.h>

@@ -70,7 +70,8 @@ def find_library():
     if path:
         if not os.path.exists(path):
             raise ImportError("MPS2P_LIBRARY=%s: no such file" % path)
-        return path
+        # a path, not a bare name, which the loader would look for elsewhere
+        return os.path.abspath(path)
     bundled = os.path.join(_HERE, SONAME)
     if os.path.exists(bundled):
         return bundled
@@ -121,8 +122,9 @@ def find_header(library_path):
             return candidate
     if os.sep not in library_path:  # find_library's last resort: the loader's search
         raise ImportError("libmps2p not found (not in the package, MPS2P_LIBRARY not set, "
-                          "pkg-config does not know mps2p; its header is nowhere either): %s"
-                          % HOW_TO_INSTALL)
+                          "pkg-config does not know mps2p; the system's loader may know %s, "
+                          "but its header mps2p.h is nowhere): %s" % (library_path,
+                                                                       HOW_TO_INSTALL))
     raise ImportError("libmps2p's header mps2p.h not found (not beside %s, not through "
                       "pkg-config, not in a checkout): %s" % (library_path, HOW_TO_INSTALL))
 
