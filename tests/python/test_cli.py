@@ -51,6 +51,14 @@ def test_series_times_are_each_sampled_once(tmp_path):
     assert len(times) == 1 + 62  # t = 0, then 0.005 ... 0.31 (the end one of them)
 
 
+def test_a_run_ends_at_its_end_time(tmp_path):
+    # 6 x 0.05 is 0.30000000000000004: the run used to stop one ulp past 0.3
+    result = mps2p("run", os.path.join(SCENES, "dam_break.toml"), "--out", str(tmp_path),
+                   "--until", "0.3", "--no-pictures", "--quiet")
+    assert result.returncode == 0, result.stderr
+    assert json.loads((tmp_path / "summary.json").read_text())["time"] == 0.3
+
+
 def test_info_with_a_scene_describes_it_without_running():
     result = mps2p("info", os.path.join(SCENES, "hydrostatic.toml"))
     assert result.returncode == 0, result.stderr

@@ -56,6 +56,8 @@ def _schedule(end_time, every):
     times = [k * every for k in range(1, count + 1)]
     if not times or end_time - times[-1] > 1e-9 * end_time:
         times.append(end_time)
+    # the last is the end itself (6 x 0.05 is 0.30000000000000004, past 0.3)
+    times[-1] = end_time
     return times
 
 
