@@ -27,8 +27,8 @@ struct linear_solver {
     int pattern_rows;
     size_t pattern_capacity; /* of pattern_column */
     uint64_t analyses;       /* symbolic analyses so far */
-    double *work; /* work_vectors(): 5 for CG, 1 for CHOLMOD and gamg (the first
-                     serves the residual check), then
+    double *work; /* work_vectors(): 5 for CG with Jacobi, 4 with IC(0), 1 for
+                     CHOLMOD and gamg (the first serves the residual check), then
                      2 partial sums a block (REDUCTION_BLOCK) */
     size_t work_size;
     /* IC(0): L, the lower triangle of A's pattern, in compressed rows, each
@@ -159,11 +159,13 @@ static size_t block_count(size_t n)
     return (n + REDUCTION_BLOCK - 1) / REDUCTION_BLOCK;
 }
 
-/* Work vectors of n: CG's r, z, p, q and the inverse diagonal; the direct and
- * multigrid solves only the residual check's product. */
+/* Work vectors of n: CG's r, z, p, q, and with Jacobi its inverse diagonal;
+ * the direct and multigrid solves only the residual check's product. */
 static size_t work_vectors(const linear_solver *ls)
 {
-    return ls->kind == PRESSURE_SOLVER_CG ? 5 : 1;
+    if (ls->kind != PRESSURE_SOLVER_CG)
+        return 1;
+    return ls->preconditioner == CG_PRECONDITIONER_IC0 ? 4 : 5;
 }
 
 static double *partial_sums(const linear_solver *ls, size_t n)
@@ -491,7 +493,9 @@ static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, 
                     char *message, size_t size)
 {
     const size_t n = (size_t)a->rows, blocks = block_count(n);
-    double *r = ls->work, *z = r + n, *p = z + n, *q = p + n, *inverse_diagonal = q + n;
+    double *r = ls->work, *z = r + n, *p = z + n, *q = p + n;
+    /* Jacobi's only: with IC(0) the partial sums lie there (work_vectors) */
+    double *inverse_diagonal = ls->preconditioner == CG_PRECONDITIONER_IC0 ? NULL : q + n;
     double *partial = partial_sums(ls, n);
 
     double b_norm = sqrt(dot(ls, b, b, n));
