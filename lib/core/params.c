@@ -240,7 +240,7 @@ void params_set_defaults(params *p)
     for (size_t i = 0; i < TABLE_SIZE; i++)
         *slot(p, &table[i]) = table[i].default_value;
     p->pressure_solver = PRESSURE_SOLVER_CHOLMOD;
-    p->cg_preconditioner = CG_PRECONDITIONER_JACOBI;
+    p->cg_preconditioner = CG_PRECONDITIONER_TWO_LEVEL;
     p->ppe_pattern = PPE_PATTERN_DISTANCE;
     scheme_apply(p, &schemes[0]);
     p->free_surface = FREE_SURFACE_NUMBER_DENSITY;
@@ -326,8 +326,9 @@ typedef struct option_entry {
 static const option_entry options[] = {
     {"pressure_solver", offsetof(params, pressure_solver), {"cholmod", "cg", "gamg", NULL},
      PRESSURE_SOLVER_DESCRIPTION},
-    {"cg_preconditioner", offsetof(params, cg_preconditioner), {"jacobi", "ic0", NULL},
-     "CG's preconditioner: the diagonal (jacobi) or incomplete Cholesky (ic0)"},
+    {"cg_preconditioner", offsetof(params, cg_preconditioner), {"jacobi", "ic0", "two_level", NULL},
+     "CG's preconditioner: the diagonal (jacobi), incomplete Cholesky (ic0), or the diagonal "
+     "plus a coarse correction on aggregates of neighbouring unknowns (two_level)"},
     {"pressure_gradient", offsetof(params, pressure_gradient), {"minimum", "corrected", NULL},
      "corrected: p_i as reference and the corrective matrix; minimum: Koshizuka and Oka's, "
      "the least pressure around as reference"},

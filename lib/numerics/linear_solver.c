@@ -1,6 +1,7 @@
 /* The pressure system's solvers: CHOLMOD (sparse Cholesky) or conjugate
- * gradients, preconditioned by the diagonal (Jacobi) or by an incomplete
- * Cholesky factor with A's own pattern (IC(0)), or, with option petsc,
+ * gradients, preconditioned by the diagonal (Jacobi), by an incomplete
+ * Cholesky factor with A's own pattern (IC(0)) or by the diagonal plus a
+ * coarse correction (two-level, coarse_level.c), or, with option petsc,
  * PETSc's CG with algebraic multigrid (gamg_solver.c). None prints or
  * aborts: errors come back as status codes with a message. */
 #include "numerics/numerics.h"
@@ -40,6 +41,7 @@ struct linear_solver {
     size_t factor_capacity, factor_row_capacity;
     double threads; /* parameter threads (team_size) */
     gamg_solver *gamg; /* kind PRESSURE_SOLVER_GAMG */
+    coarse_level *coarse; /* CG with CG_PRECONDITIONER_TWO_LEVEL */
 };
 
 /* GSL's default handler aborts the process, and it is process-wide: turn it
@@ -90,6 +92,13 @@ int linear_solver_create(int kind, int preconditioner, double threads, linear_so
         ls->common.nmethods = 1;
         ls->common.method[0].ordering = CHOLMOD_AMD;
     }
+    if (kind == PRESSURE_SOLVER_CG && preconditioner == CG_PRECONDITIONER_TWO_LEVEL) {
+        int status = coarse_level_create(&ls->coarse, message, size);
+        if (status != MPS2P_OK) {
+            free(ls);
+            return status;
+        }
+    }
 #ifdef MPS2P_HAVE_PETSC
     if (kind == PRESSURE_SOLVER_GAMG) {
         int status = gamg_create(&ls->gamg, message, size);
@@ -114,6 +123,7 @@ void linear_solver_destroy(linear_solver *ls)
 #ifdef MPS2P_HAVE_PETSC
     gamg_destroy(ls->gamg);
 #endif
+    coarse_level_destroy(ls->coarse);
     free(ls->pattern_start);
     free(ls->pattern_column);
     free(ls->work);
@@ -144,6 +154,7 @@ size_t linear_solver_memory(const linear_solver *ls)
              2 * ls->factor_capacity * (sizeof(int) + sizeof(double));
     if (ls->kind == PRESSURE_SOLVER_CHOLMOD)
         bytes += ls->common.memory_inuse; /* what CHOLMOD holds, the kept factor too */
+    bytes += coarse_level_memory(ls->coarse);
 #ifdef MPS2P_HAVE_PETSC
     bytes += gamg_memory(ls->gamg);
 #endif
@@ -159,7 +170,8 @@ static size_t block_count(size_t n)
     return (n + REDUCTION_BLOCK - 1) / REDUCTION_BLOCK;
 }
 
-/* Work vectors of n: CG's r, z, p, q, and with Jacobi its inverse diagonal;
+/* Work vectors of n: CG's r, z, p, q, and with Jacobi (two-level too) its
+ * inverse diagonal;
  * the direct and multigrid solves only the residual check's product. */
 static size_t work_vectors(const linear_solver *ls)
 {
@@ -488,6 +500,33 @@ static void apply_ic0(const linear_solver *ls, size_t n, const double *r, double
                inverse_pivot[i];
 }
 
+/* z += P A_c^-1 P^T r, and r . z (block sums in order, as dot). */
+static int add_coarse_correction(const linear_solver *ls, const double *r, double *z,
+                                 size_t n, double *rz, char *message, size_t size)
+{
+    const int *aggregate_of = NULL;
+    const double *coarse = coarse_level_solve(ls->coarse, r, &aggregate_of);
+    if (!coarse) {
+        snprintf(message, size, "out of memory in the two-level preconditioner's coarse solve");
+        return MPS2P_ERR_NOMEM;
+    }
+    const size_t blocks = block_count(n);
+    double *partial = partial_sums(ls, n);
+    PARALLEL_FOR(ls->threads, schedule(static) if (blocks > 1),
+    for (size_t block = 0; block < blocks; block++) {
+        size_t first = block * REDUCTION_BLOCK;
+        size_t end = n - first < REDUCTION_BLOCK ? n : first + REDUCTION_BLOCK;
+        double block_rz = 0.0;
+        for (size_t i = first; i < end; i++) {
+            z[i] += coarse[aggregate_of[i]];
+            block_rz += r[i] * z[i];
+        }
+        partial[2 * block] = block_rz;
+    });
+    *rz = combine(partial, blocks, 0);
+    return MPS2P_OK;
+}
+
 static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, double *x,
                     double tolerance, size_t max_iterations, size_t *iterations,
                     char *message, size_t size)
@@ -529,7 +568,18 @@ static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, 
         z[i] = r[i] * inverse_diagonal[i];
         p[i] = z[i];
     }
-    double rz = dot(ls, r, z, n), rr = dot(ls, r, r, n);
+    const int two_level = ls->preconditioner == CG_PRECONDITIONER_TWO_LEVEL;
+    double rz = 0.0, rr = dot(ls, r, r, n);
+    if (two_level) {
+        int status = coarse_level_setup(ls->coarse, a, message, size);
+        if (status == MPS2P_OK)
+            status = add_coarse_correction(ls, r, z, n, &rz, message, size);
+        if (status != MPS2P_OK)
+            return status;
+        memcpy(p, z, n * sizeof *p);
+    } else {
+        rz = dot(ls, r, z, n);
+    }
     size_t k = 0;
     int status = MPS2P_ERR_SOLVE;
     for (;;) {
@@ -564,9 +614,16 @@ static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, 
             partial[2 * block + 1] = block_rr;
         });
         rr = combine(partial, blocks, 1);
-        if (incomplete_cholesky)
+        double rz_next = combine(partial, blocks, 0);
+        if (incomplete_cholesky) {
             apply_ic0(ls, n, r, z);
-        double rz_next = incomplete_cholesky ? dot(ls, r, z, n) : combine(partial, blocks, 0);
+            rz_next = dot(ls, r, z, n);
+        } else if (two_level && sqrt(rr) > tolerance * b_norm) {
+            /* (not when converged: the loop stops before using z) */
+            int correction = add_coarse_correction(ls, r, z, n, &rz_next, message, size);
+            if (correction != MPS2P_OK)
+                return correction;
+        }
         double beta = rz_next / rz;
         rz = rz_next;
         PARALLEL_FOR(ls->threads, schedule(static) if (n >= PARALLEL_FROM),

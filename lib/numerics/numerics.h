@@ -144,7 +144,11 @@ enum pressure_solver_kind {
     PRESSURE_SOLVER_CG = 1,
     PRESSURE_SOLVER_GAMG = 2
 };
-enum cg_preconditioner_kind { CG_PRECONDITIONER_JACOBI = 0, CG_PRECONDITIONER_IC0 = 1 };
+enum cg_preconditioner_kind {
+    CG_PRECONDITIONER_JACOBI = 0,
+    CG_PRECONDITIONER_IC0 = 1,
+    CG_PRECONDITIONER_TWO_LEVEL = 2
+};
 
 /* A symmetric matrix in compressed rows, full pattern (both triangles). */
 typedef struct sparse_matrix {
@@ -157,6 +161,19 @@ typedef struct sparse_matrix {
 } sparse_matrix;
 
 typedef struct linear_solver linear_solver;
+
+/* The coarse level of CG's two-level preconditioner (coarse_level.c). */
+typedef struct coarse_level coarse_level;
+int coarse_level_create(coarse_level **out, char *message, size_t size);
+void coarse_level_destroy(coarse_level *c);
+size_t coarse_level_memory(const coarse_level *c);
+/* Aggregates of A's unknowns, A_c = P^T A P factorised. */
+int coarse_level_setup(coarse_level *c, const sparse_matrix *a, char *message, size_t size);
+/* A_c^-1 P^T r, one value an aggregate, and the aggregate of each unknown;
+ * NULL when CHOLMOD fails (out of memory). */
+const double *coarse_level_solve(coarse_level *c, const double *r, const int **aggregate_of);
+/* Aggregates of the last setup. */
+int coarse_level_count(const coarse_level *c);
 
 /* kind: enum pressure_solver_kind; preconditioner: enum cg_preconditioner_kind
  * (CG only); threads: parameter threads, for CG's loops (team_size). Fails

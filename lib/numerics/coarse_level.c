@@ -1,0 +1,282 @@
+/* The coarse level of CG's two-level preconditioner (cg_preconditioner =
+ * two_level): z = D^-1 r + P A_c^-1 P^T r, the diagonal plus a correction on
+ * aggregates of neighbouring unknowns. P is piecewise constant (an unknown
+ * takes its aggregate's value), A_c = P^T A P the Galerkin coarse matrix,
+ * factorised by CHOLMOD. Jacobi alone damps only the short waves of the
+ * error, so its iterations grow with the size of a region without a free
+ * surface (the air over the water: 87 a step in the paper's case); the
+ * coarse level takes the long ones (docs/performance.md). The aggregates
+ * are those of unsmoothed aggregation multigrid: a greedy pass over A's
+ * graph, every unknown with its neighbours. Serial and in row order: the
+ * same bits for any number of threads. */
+#include "numerics/numerics.h"
+
+#include <cholmod.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct coarse_level {
+    cholmod_common common;
+    cholmod_factor *factor;
+    cholmod_dense *solution, *work_y, *work_e; /* cholmod_solve2's, reused */
+    int *aggregate_of;                         /* of each unknown */
+    int *member_start, *member;                /* the unknowns of each aggregate */
+    int *coarse_start, *coarse_row, *marker;   /* A_c's upper triangle, by columns */
+    double *coarse_value, *accumulated, *restricted;
+    size_t rows_capacity, count_capacity, entries_capacity;
+    int rows, count;
+};
+
+/* CHOLMOD's simplicial factor is faster than the supernodal one on small
+ * systems (linear_solver.c measures the rule for the fine system). */
+#define SUPERNODAL_FROM_ROWS 3000
+
+int coarse_level_create(coarse_level **out, char *message, size_t size)
+{
+    coarse_level *c = calloc(1, sizeof *c);
+    if (!c || !cholmod_start(&c->common)) {
+        free(c);
+        snprintf(message, size, "out of memory starting the two-level preconditioner");
+        return MPS2P_ERR_NOMEM;
+    }
+    c->common.print = 0;            /* never print from a library */
+    c->common.error_handler = NULL; /* errors come back in common.status */
+    c->common.nmethods = 1;         /* AMD alone: no silent switch to METIS */
+    c->common.method[0].ordering = CHOLMOD_AMD;
+    *out = c;
+    return MPS2P_OK;
+}
+
+void coarse_level_destroy(coarse_level *c)
+{
+    if (!c)
+        return;
+    cholmod_free_factor(&c->factor, &c->common);
+    cholmod_free_dense(&c->solution, &c->common);
+    cholmod_free_dense(&c->work_y, &c->common);
+    cholmod_free_dense(&c->work_e, &c->common);
+    cholmod_finish(&c->common);
+    free(c->aggregate_of);
+    free(c->member_start);
+    free(c->member);
+    free(c->coarse_start);
+    free(c->coarse_row);
+    free(c->marker);
+    free(c->coarse_value);
+    free(c->accumulated);
+    free(c->restricted);
+    free(c);
+}
+
+size_t coarse_level_memory(const coarse_level *c)
+{
+    if (!c)
+        return 0;
+    return sizeof *c + c->rows_capacity * 2 * sizeof(int) +
+           c->count_capacity * (3 * sizeof(int) + 2 * sizeof(double)) +
+           c->entries_capacity * (sizeof(int) + sizeof(double)) + c->common.memory_inuse;
+}
+
+int coarse_level_count(const coarse_level *c)
+{
+    return c ? c->count : 0;
+}
+
+static int grow(void *array, size_t count, size_t size)
+{
+    void *grown = realloc(*(void **)array, count * size);
+    if (!grown)
+        return 0;
+    *(void **)array = grown;
+    return 1;
+}
+
+/* Greedy aggregation: an unknown none of whose neighbours is taken starts
+ * an aggregate with all of them; the rest join the aggregate of their
+ * strongest taken neighbour (or one of their own if they have none).
+ * Returns the number of aggregates. */
+static int aggregate(const sparse_matrix *a, int *aggregate_of)
+{
+    const int n = a->rows;
+    int count = 0;
+    for (int i = 0; i < n; i++)
+        aggregate_of[i] = -1;
+    for (int i = 0; i < n; i++) {
+        if (aggregate_of[i] >= 0)
+            continue;
+        int untaken = 1;
+        for (int k = a->row_start[i]; k < a->row_start[i + 1] && untaken; k++)
+            untaken = a->value[k] == 0.0 || aggregate_of[a->column[k]] < 0;
+        if (!untaken)
+            continue;
+        /* every neighbour (measured: also the strongest only, those with at
+         * least a quarter of the largest coupling, gave fewer iterations but
+         * no faster solve) */
+        for (int k = a->row_start[i]; k < a->row_start[i + 1]; k++)
+            if (a->value[k] != 0.0) /* ppe_pattern neighbour_list stores zeros */
+                aggregate_of[a->column[k]] = count;
+        aggregate_of[i] = count++;
+    }
+    for (int i = 0; i < n; i++) {
+        if (aggregate_of[i] >= 0)
+            continue;
+        double strongest = 0.0;
+        for (int k = a->row_start[i]; k < a->row_start[i + 1]; k++) {
+            int j = a->column[k];
+            if (j != i && aggregate_of[j] >= 0 && -a->value[k] > strongest) {
+                strongest = -a->value[k];
+                aggregate_of[i] = aggregate_of[j];
+            }
+        }
+        if (aggregate_of[i] < 0)
+            aggregate_of[i] = count++;
+    }
+    return count;
+}
+
+/* The unknowns of each aggregate, in ascending order (a counting sort). */
+static void group_members(coarse_level *c, int n)
+{
+    int *start = c->member_start;
+    memset(start, 0, ((size_t)c->count + 1) * sizeof *start);
+    for (int i = 0; i < n; i++)
+        start[c->aggregate_of[i] + 1]++;
+    for (int g = 0; g < c->count; g++)
+        start[g + 1] += start[g];
+    for (int i = 0; i < n; i++)
+        c->member[start[c->aggregate_of[i]]++] = i;
+    for (int g = c->count; g > 0; g--)
+        start[g] = start[g - 1];
+    start[0] = 0;
+}
+
+static int compare_int(const void *x, const void *y)
+{
+    int a = *(const int *)x, b = *(const int *)y;
+    return (a > b) - (a < b);
+}
+
+/* A_c's upper triangle by columns: column J holds sum over i in J, j in I of
+ * a_ij for every aggregate I <= J, its rows ascending. One pass; the rows
+ * grow as needed (a column has at most as many entries as its members'
+ * rows). */
+static int build_coarse(coarse_level *c, const sparse_matrix *a, size_t *entries_out)
+{
+    size_t entries = 0;
+    for (int g = 0; g < c->count; g++)
+        c->marker[g] = -1;
+    c->coarse_start[0] = 0;
+    for (int g = 0; g < c->count; g++) {
+        size_t most = 0;
+        for (int m = c->member_start[g]; m < c->member_start[g + 1]; m++)
+            most += (size_t)(a->row_start[c->member[m] + 1] - a->row_start[c->member[m]]);
+        if (entries + most > c->entries_capacity) {
+            size_t capacity = 2 * (entries + most);
+            if (!grow(&c->coarse_row, capacity, sizeof(int)) ||
+                !grow(&c->coarse_value, capacity, sizeof(double)))
+                return MPS2P_ERR_NOMEM;
+            c->entries_capacity = capacity;
+        }
+        size_t first = entries;
+        for (int m = c->member_start[g]; m < c->member_start[g + 1]; m++) {
+            int i = c->member[m];
+            for (int k = a->row_start[i]; k < a->row_start[i + 1]; k++) {
+                int h = c->aggregate_of[a->column[k]];
+                if (h > g)
+                    continue;
+                if (c->marker[h] != g) {
+                    c->marker[h] = g;
+                    c->coarse_row[entries++] = h;
+                    c->accumulated[h] = 0.0;
+                }
+                c->accumulated[h] += a->value[k];
+            }
+        }
+        qsort(c->coarse_row + first, entries - first, sizeof *c->coarse_row, compare_int);
+        for (size_t e = first; e < entries; e++)
+            c->coarse_value[e] = c->accumulated[c->coarse_row[e]];
+        c->coarse_start[g + 1] = (int)entries;
+    }
+    *entries_out = entries;
+    return MPS2P_OK;
+}
+
+int coarse_level_setup(coarse_level *c, const sparse_matrix *a, char *message, size_t size)
+{
+    const size_t n = (size_t)a->rows;
+    if (n > c->rows_capacity) {
+        if (!grow(&c->aggregate_of, n, sizeof(int)) || !grow(&c->member, n, sizeof(int)))
+            goto out_of_memory;
+        c->rows_capacity = n;
+    }
+    c->rows = a->rows;
+    c->count = aggregate(a, c->aggregate_of);
+    const size_t count = (size_t)c->count;
+    if (count + 1 > c->count_capacity) {
+        if (!grow(&c->member_start, count + 1, sizeof(int)) ||
+            !grow(&c->coarse_start, count + 1, sizeof(int)) ||
+            !grow(&c->marker, count + 1, sizeof(int)) ||
+            !grow(&c->accumulated, count + 1, sizeof(double)) ||
+            !grow(&c->restricted, count + 1, sizeof(double)))
+            goto out_of_memory;
+        c->count_capacity = count + 1;
+    }
+    group_members(c, a->rows);
+    size_t entries = 0;
+    if (build_coarse(c, a, &entries) != MPS2P_OK)
+        goto out_of_memory;
+
+    cholmod_sparse matrix = {0};
+    matrix.nrow = matrix.ncol = count;
+    matrix.nzmax = entries;
+    matrix.p = c->coarse_start;
+    matrix.i = c->coarse_row;
+    matrix.x = c->coarse_value;
+    matrix.stype = 1;
+    matrix.itype = CHOLMOD_INT;
+    matrix.xtype = CHOLMOD_REAL;
+    matrix.dtype = CHOLMOD_DOUBLE;
+    matrix.sorted = 1;
+    matrix.packed = 1;
+    cholmod_common *cc = &c->common;
+    cc->supernodal = count < SUPERNODAL_FROM_ROWS ? CHOLMOD_SIMPLICIAL : CHOLMOD_AUTO;
+    /* the aggregates, and so the pattern, change with the matrix: analyse anew */
+    cholmod_free_factor(&c->factor, cc);
+    c->factor = cholmod_analyze(&matrix, cc);
+    if (c->factor)
+        cholmod_factorize(&matrix, c->factor, cc);
+    if (!c->factor || cc->status != CHOLMOD_OK || c->factor->minor < c->factor->n) {
+        if (cc->status == CHOLMOD_OUT_OF_MEMORY)
+            goto out_of_memory;
+        snprintf(message, size,
+                 "two-level preconditioner: the coarse matrix (%zu aggregates) did not "
+                 "factorise (CHOLMOD status %d)", count, cc->status);
+        cholmod_free_factor(&c->factor, cc);
+        return MPS2P_ERR_SOLVE;
+    }
+    return MPS2P_OK;
+out_of_memory:
+    snprintf(message, size, "out of memory for the two-level preconditioner");
+    cholmod_free_factor(&c->factor, &c->common);
+    return MPS2P_ERR_NOMEM;
+}
+
+const double *coarse_level_solve(coarse_level *c, const double *r, const int **aggregate_of)
+{
+    double *restricted = c->restricted;
+    memset(restricted, 0, (size_t)c->count * sizeof *restricted);
+    for (int i = 0; i < c->rows; i++)
+        restricted[c->aggregate_of[i]] += r[i];
+    cholmod_dense rhs = {0};
+    rhs.nrow = rhs.d = rhs.nzmax = (size_t)c->count;
+    rhs.ncol = 1;
+    rhs.x = restricted;
+    rhs.xtype = CHOLMOD_REAL;
+    rhs.dtype = CHOLMOD_DOUBLE;
+    if (!cholmod_solve2(CHOLMOD_A, c->factor, &rhs, NULL, &c->solution, NULL, &c->work_y,
+                        &c->work_e, &c->common))
+        return NULL;
+    *aggregate_of = c->aggregate_of;
+    return c->solution->x;
+}
