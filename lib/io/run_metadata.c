@@ -111,13 +111,17 @@ int h5_read_parameters(h5_context *ctx, hid_t file, params *out)
         /* the scheme is a name for the other settings, read on their own */
         if (strcmp(key, "scheme") == 0)
             continue;
-        /* files from before ppe_pattern, cg_preconditioner or effect.gas_buffer:
-         * its default, their only choice then (the layer is off there through
-         * gas_buffer_depth 0) */
-        if ((strcmp(key, "ppe_pattern") == 0 || strcmp(key, "cg_preconditioner") == 0 ||
-             strcmp(key, "effect.gas_buffer") == 0) &&
+        /* files from before ppe_pattern or effect.gas_buffer: its default, their
+         * only choice then (the layer is off there through gas_buffer_depth 0) */
+        if ((strcmp(key, "ppe_pattern") == 0 || strcmp(key, "effect.gas_buffer") == 0) &&
             H5Aexists(group, key) == 0)
             continue;
+        /* files from before cg_preconditioner: Jacobi, the only one then (no
+         * longer the default) */
+        if (strcmp(key, "cg_preconditioner") == 0 && H5Aexists(group, key) == 0) {
+            out->cg_preconditioner = CG_PRECONDITIONER_JACOBI;
+            continue;
+        }
         /* files from before wall_ghosts had none */
         if (strcmp(key, "wall_ghosts") == 0 && H5Aexists(group, key) == 0) {
             out->wall_ghosts = WALL_GHOSTS_NONE;
