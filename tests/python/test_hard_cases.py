@@ -50,31 +50,33 @@ def test_conventional_model_diverges_where_the_drop_traps_air():
 
 
 def test_drop_into_pool_passes_every_check():
-    """The improved model through the drop's impact to the scene's end (1 s)
-    with every check of mps2p.tools.stability (energy, inside the tank,
-    counts, spacing); the air trapped under the drop is counted, and most of
-    it has risen out by the end (measured: peak 24, 1 at 1 s)."""
-    report = check_run(scene("drop_into_pool"), options=IMPROVED)
+    """The improved model through the drop's impact and 0.5 s past the
+    scene's end (1.5 s) with every check of mps2p.tools.stability (energy,
+    inside the tank, counts, spacing); the air trapped under the drop is
+    counted, and none of it is left in the water at 1.5 s. The trapped air
+    leaves between 1.0 and 1.25 s: at 1 s six runs perturbed in their solver
+    (preconditioner, tolerances) still had 0-11 of peaks of 20-30, so a bar
+    at 1 s (it was below a quarter of the peak) sat in the tail's scatter; at
+    1.5 s all six had 0 (docs/two-phase.md)."""
+    report = check_run(scene("drop_into_pool"), until=1.5, options=IMPROVED)
     assert report["status"] == "ok", (report["reason"], report["violations"])
     peak, last = gas_in_liquid_peak_and_last(report)
     assert peak > 0  # air is trapped under the drop, and counted
-    assert last < 0.25 * peak, "air in the water: peak %d, at 1 s %d" % (peak, last)
+    assert last == 0, "air in the water: peak %d, at 1.5 s %d" % (peak, last)
 
 
-WET_BED_015 = pytest.mark.xfail(strict=True, reason=(
-    "measured on main after the sector scan's wall-pair change (docs/two-phase.md, rung 5): "
-    "at l0 = 0.015 m kinetic energy 45.3 J/m above released 37.2 + margin 3.3 at 0.335 s, "
-    "a water particle out of the domain at 0.599 s; it passed before that change"))
-
-
-@pytest.mark.parametrize("name", [pytest.param("wet_bed_air", marks=WET_BED_015),
-                                  "sloshing_air"])
+@pytest.mark.parametrize("name", ["wet_bed_air", "sloshing_air"])
 def test_hard_case_passes_every_check_at_a_modest_resolution(name):
     """The column onto a wet bed (to 1.5 s) and the shaken tank (to 4 s,
     4.4 periods), both with air, at l0 = 0.015 m (CI's time; at the scenes'
     0.01 m in the acceptance run below): every check of mps2p.tools.stability
     to the end, gas above the tank's walls counted as gone. Both held by the
-    gas's damping layer at its top (docs/two-phase.md, rungs 5 and 6)."""
+    gas's damping layer at its top (docs/two-phase.md, rungs 5 and 6). The
+    wet bed at this spacing passes as shipped (CG's two-level preconditioner)
+    but is not robust: of runs perturbed in the solver's tolerances, 1 in 4
+    with the two-level preconditioner and 2 in 3 with Jacobi threw a water
+    particle out of the domain at 0.6-0.9 s (docs/two-phase.md); it was a
+    known failure with Jacobi."""
     report = check_run(scene(name), l0=0.015, options=IMPROVED)
     assert report["status"] == "ok", (report["reason"], report["violations"])
     assert report["time"] == pytest.approx(report["end_time"])
