@@ -1,4 +1,4 @@
-"""The plot and fits of benchmarks/scale.sh: reads OUT/{gamg,ic0,jacobi}-L0.md
+"""The plot and fits of benchmarks/scale.sh: reads OUT/{two_level,gamg,ic0,jacobi}-L0.md
 (benchmarks/throughput's output, one l0 each), prints a Markdown table and
 the fitted exponents, and draws time per step and memory per particle
 against particles, log-log, with issue 18's bounds (N^1.2, 1 KiB).
@@ -14,7 +14,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-LABELS = {"gamg": "gamg (PETSc CG + GAMG)", "ic0": "cg, ic0", "jacobi": "cg, jacobi"}
+LABELS = {"two_level": "cg, two_level", "gamg": "gamg (PETSc CG + GAMG)", "ic0": "cg, ic0",
+          "jacobi": "cg, jacobi"}
 
 
 def read(out, solver):

@@ -21,7 +21,7 @@
  *
  *   throughput [steps [solver [case] [l0 ...]]]
  *       solver: cholmod (default), cg, or gamg (a build with PETSc);
- *       case: water (default) or two_phase. MPS2P_PRECONDITIONER=ic0 sets CG's
+ *       case: water (default) or two_phase. MPS2P_PRECONDITIONER=ic0 or two_level sets CG's
  *       preconditioner (default jacobi). */
 #include <mps2p.h>
 
@@ -135,6 +135,9 @@ int main(int argc, char **argv)
         for (int s = 0; s < 3; s++)
             check(mps2p_solver_step(solver), "warm-up step");
         check(mps2p_solver_reset_stage_timings(solver), "stage timings");
+        double iterations_before, iterations_after;
+        check(mps2p_solver_get_stat(solver, "ppe_iterations_total", &iterations_before),
+              "iterations");
         double start = now(), cpu_start = cpu_now(), dt_sum = 0.0;
         for (int s = 0; s < steps; s++) {
             double dt;
@@ -151,6 +154,8 @@ int main(int argc, char **argv)
             }
         }
         check(mps2p_solver_get_stat(solver, "memory_bytes", &bytes), "memory");
+        check(mps2p_solver_get_stat(solver, "ppe_iterations_total", &iterations_after),
+              "iterations");
         particles[k] = (double)n;
         per_step[k] = wall;
         cpu_per_step[k] = cpu;
@@ -189,6 +194,10 @@ int main(int argc, char **argv)
             written += snprintf(stage_line[k] + written, sizeof stage_line[k] - (size_t)written,
                                 " %s %.0f %%", top_name[r],
                                 100.0 * top_seconds[r] / (wall * steps));
+        if (written > 0 && (size_t)written < sizeof stage_line[k])
+            snprintf(stage_line[k] + written, sizeof stage_line[k] - (size_t)written,
+                     "; %.0f solver iterations a step",
+                     (iterations_after - iterations_before) / steps);
         mps2p_solver_destroy(solver);
     }
     if (count >= 2) {
