@@ -44,6 +44,10 @@ int coarse_level_create(coarse_level **out, char *message, size_t size)
     c->common.error_handler = NULL; /* errors come back in common.status */
     c->common.nmethods = 1;         /* AMD alone: no silent switch to METIS */
     c->common.method[0].ordering = CHOLMOD_AMD;
+    /* L L^T, not L D L^T: a simplicial LDL^T factor reports only a zero
+     * pivot, and a coarse matrix that is not positive definite (a system
+     * without a free surface and compressibility 0) must fail here */
+    c->common.final_ll = 1;
     *out = c;
     return MPS2P_OK;
 }
@@ -183,7 +187,7 @@ static int build_coarse(coarse_level *c, const sparse_matrix *a, size_t *entries
             int i = c->member[m];
             for (int k = a->row_start[i]; k < a->row_start[i + 1]; k++) {
                 int h = c->aggregate_of[a->column[k]];
-                if (h > g)
+                if (h > g || a->value[k] == 0.0) /* ppe_pattern neighbour_list's zeros */
                     continue;
                 if (c->marker[h] != g) {
                     c->marker[h] = g;
@@ -211,8 +215,10 @@ int coarse_level_setup(coarse_level *c, const sparse_matrix *a, char *message, s
         c->rows_capacity = n;
     }
     c->rows = a->rows;
-    c->count = aggregate(a, c->aggregate_of);
-    const size_t count = (size_t)c->count;
+    c->count = 0; /* until the factor stands: coarse_level_solve refuses */
+    cholmod_free_factor(&c->factor, &c->common);
+    const int aggregates = aggregate(a, c->aggregate_of);
+    const size_t count = (size_t)aggregates;
     if (count + 1 > c->count_capacity) {
         if (!grow(&c->member_start, count + 1, sizeof(int)) ||
             !grow(&c->coarse_start, count + 1, sizeof(int)) ||
@@ -222,6 +228,7 @@ int coarse_level_setup(coarse_level *c, const sparse_matrix *a, char *message, s
             goto out_of_memory;
         c->count_capacity = count + 1;
     }
+    c->count = aggregates;
     group_members(c, a->rows);
     size_t entries = 0;
     if (build_coarse(c, a, &entries) != MPS2P_OK)
@@ -242,7 +249,6 @@ int coarse_level_setup(coarse_level *c, const sparse_matrix *a, char *message, s
     cholmod_common *cc = &c->common;
     cc->supernodal = count < SUPERNODAL_FROM_ROWS ? CHOLMOD_SIMPLICIAL : CHOLMOD_AUTO;
     /* the aggregates, and so the pattern, change with the matrix: analyse anew */
-    cholmod_free_factor(&c->factor, cc);
     c->factor = cholmod_analyze(&matrix, cc);
     if (c->factor)
         cholmod_factorize(&matrix, c->factor, cc);
@@ -250,20 +256,24 @@ int coarse_level_setup(coarse_level *c, const sparse_matrix *a, char *message, s
         if (cc->status == CHOLMOD_OUT_OF_MEMORY)
             goto out_of_memory;
         snprintf(message, size,
-                 "two-level preconditioner: the coarse matrix (%zu aggregates) did not "
-                 "factorise (CHOLMOD status %d)", count, cc->status);
+                 "two-level preconditioner: the coarse matrix (%zu aggregates) is not "
+                 "positive definite (CHOLMOD status %d)", count, cc->status);
         cholmod_free_factor(&c->factor, cc);
+        c->count = 0;
         return MPS2P_ERR_SOLVE;
     }
     return MPS2P_OK;
 out_of_memory:
     snprintf(message, size, "out of memory for the two-level preconditioner");
     cholmod_free_factor(&c->factor, &c->common);
+    c->count = 0;
     return MPS2P_ERR_NOMEM;
 }
 
 const double *coarse_level_solve(coarse_level *c, const double *r, const int **aggregate_of)
 {
+    if (!c->factor)
+        return NULL; /* no setup, or a failed one */
     double *restricted = c->restricted;
     memset(restricted, 0, (size_t)c->count * sizeof *restricted);
     for (int i = 0; i < c->rows; i++)

@@ -507,7 +507,8 @@ static int add_coarse_correction(const linear_solver *ls, const double *r, doubl
     const int *aggregate_of = NULL;
     const double *coarse = coarse_level_solve(ls->coarse, r, &aggregate_of);
     if (!coarse) {
-        snprintf(message, size, "out of memory in the two-level preconditioner's coarse solve");
+        snprintf(message, size, "two-level preconditioner: the coarse solve failed (out of "
+                                "memory, or no coarse factor)");
         return MPS2P_ERR_NOMEM;
     }
     const size_t blocks = block_count(n);
@@ -568,8 +569,10 @@ static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, 
         z[i] = r[i] * inverse_diagonal[i];
         p[i] = z[i];
     }
-    const int two_level = ls->preconditioner == CG_PRECONDITIONER_TWO_LEVEL;
-    double rz = 0.0, rr = dot(ls, r, r, n);
+    /* (no set-up when the warm start already meets the tolerance: still water) */
+    double rr = dot(ls, r, r, n), rz = 0.0;
+    const int two_level = ls->preconditioner == CG_PRECONDITIONER_TWO_LEVEL &&
+                          sqrt(rr) > tolerance * b_norm;
     if (two_level) {
         int status = coarse_level_setup(ls->coarse, a, message, size);
         if (status == MPS2P_OK)
@@ -621,8 +624,10 @@ static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, 
         } else if (two_level && sqrt(rr) > tolerance * b_norm) {
             /* (not when converged: the loop stops before using z) */
             int correction = add_coarse_correction(ls, r, z, n, &rz_next, message, size);
-            if (correction != MPS2P_OK)
+            if (correction != MPS2P_OK) {
+                *iterations = k;
                 return correction;
+            }
         }
         double beta = rz_next / rz;
         rz = rz_next;

@@ -170,7 +170,8 @@ size_t coarse_level_memory(const coarse_level *c);
 /* Aggregates of A's unknowns, A_c = P^T A P factorised. */
 int coarse_level_setup(coarse_level *c, const sparse_matrix *a, char *message, size_t size);
 /* A_c^-1 P^T r, one value an aggregate, and the aggregate of each unknown;
- * NULL when CHOLMOD fails (out of memory). */
+ * NULL without a factor (no setup, or a failed one) or when CHOLMOD's solve
+ * fails (out of memory). */
 const double *coarse_level_solve(coarse_level *c, const double *r, const int **aggregate_of);
 /* Aggregates of the last setup. */
 int coarse_level_count(const coarse_level *c);
