@@ -293,9 +293,11 @@ struct mps2p_solver {
      * state (NULL without): the neighbours a particle's viscosity sees (all
      * where viscosity_mask is NULL or viscosity_unmasked[i] is set), and the
      * share of a collision's impulse fluid particle i takes from fluid
-     * particle j (below 0: they do not collide; NULL: by mass). */
+     * particle j (below 0: they do not collide; NULL: by mass), and whether
+     * the pair's impulse comes whole this step rather than at the damper's
+     * rate (*whole set to 1). */
     const unsigned char *viscosity_mask, *viscosity_unmasked;
-    double (*collision_share)(const mps2p_solver *s, size_t i, size_t j);
+    double (*collision_share)(const mps2p_solver *s, size_t i, size_t j, int *whole);
 
     /* pressure solve */
     sparse_matrix matrix;

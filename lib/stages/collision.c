@@ -50,14 +50,18 @@ int collision_apply(mps2p_solver *s, double dt)
             if (approach <= 0.0)
                 continue;
             double share = 1.0; /* a wall's */
+            int whole = 0;
             if (s->kind[j] == MPS2P_KIND_FLUID) {
                 /* by mass, unless another part gives the rule (the two phases) */
-                share = s->collision_share ? s->collision_share(s, i, j)
+                share = s->collision_share ? s->collision_share(s, i, j, &whole)
                                            : s->density[j] / (s->density[i] + s->density[j]);
                 if (share < 0.0)
                     continue;
             }
-            double impulse = fraction * (1.0 + e) * share * approach;
+            /* whole: the impulse in full inside half a spacing (Koshizuka and
+             * Oka's collision distance), the damper's rate outside it */
+            double given = whole && r < 0.5 * s->l0 ? 1.0 : fraction;
+            double impulse = given * (1.0 + e) * share * approach;
             updated[2 * i] -= impulse * nx;
             updated[2 * i + 1] -= impulse * ny;
         }

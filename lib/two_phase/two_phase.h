@@ -93,7 +93,7 @@ int phases_divergence_check(mps2p_solver *s, double dt); /* divergence.c */
 /* ---- within the part ---- */
 
 /* The share of a collision's impulse between phases (collision_rule.c). */
-double phases_collision_share(const mps2p_solver *s, size_t i, size_t j);
+double phases_collision_share(const mps2p_solver *s, size_t i, size_t j, int *whole);
 void phases_pressure_combine(mps2p_solver *s);         /* gas_pressure.c */
 /* A light particle moved by the liquid's pressure (correction.c). */
 int moves_with_liquid(const mps2p_solver *s, size_t i);
