@@ -82,20 +82,6 @@ size_t coarse_level_memory(const coarse_level *c)
            c->entries_capacity * (sizeof(int) + sizeof(double)) + c->common.memory_inuse;
 }
 
-int coarse_level_count(const coarse_level *c)
-{
-    return c ? c->count : 0;
-}
-
-static int grow(void *array, size_t count, size_t size)
-{
-    void *grown = realloc(*(void **)array, count * size);
-    if (!grown)
-        return 0;
-    *(void **)array = grown;
-    return 1;
-}
-
 /* Greedy aggregation: an unknown none of whose neighbours is taken starts
  * an aggregate with all of them; the rest join the aggregate of their
  * strongest taken neighbour (or one of their own if they have none).

@@ -373,17 +373,6 @@ static int solve_cholmod(linear_solver *ls, const sparse_matrix *a, const double
     return MPS2P_OK;
 }
 
-/* Room for L: as many rows as A, and A's lower triangle. */
-/* Grows *array to hold count elements of size bytes; 0 when it cannot. */
-static int grow(void *array, size_t count, size_t size)
-{
-    void *grown = realloc(*(void **)array, count * size);
-    if (!grown)
-        return 0;
-    *(void **)array = grown;
-    return 1;
-}
-
 /* Room for L and L^T: as many rows as A, and A's lower triangle. */
 static int ensure_factor(linear_solver *ls, size_t rows, size_t entries)
 {

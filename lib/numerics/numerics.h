@@ -8,6 +8,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h> /* realloc, for grow */
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -162,6 +163,17 @@ typedef struct sparse_matrix {
 
 typedef struct linear_solver linear_solver;
 
+/* Grows *array (a pointer to any element type) to hold count elements of
+ * size bytes; 0, the array untouched, when it cannot. */
+static inline int grow(void *array, size_t count, size_t size)
+{
+    void *grown = realloc(*(void **)array, count * size);
+    if (!grown)
+        return 0;
+    *(void **)array = grown;
+    return 1;
+}
+
 /* The coarse level of CG's two-level preconditioner (coarse_level.c). */
 typedef struct coarse_level coarse_level;
 int coarse_level_create(coarse_level **out, char *message, size_t size);
@@ -173,8 +185,7 @@ int coarse_level_setup(coarse_level *c, const sparse_matrix *a, char *message, s
  * NULL without a factor (no setup, or a failed one) or when CHOLMOD's solve
  * fails (out of memory). */
 const double *coarse_level_solve(coarse_level *c, const double *r, const int **aggregate_of);
-/* Aggregates of the last setup. */
-int coarse_level_count(const coarse_level *c);
+
 
 /* kind: enum pressure_solver_kind; preconditioner: enum cg_preconditioner_kind
  * (CG only); threads: parameter threads, for CG's loops (team_size). Fails

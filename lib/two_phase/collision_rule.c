@@ -3,9 +3,9 @@
  * liquid as off a wall, in the improved model whole in one step inside half
  * a spacing (the damper's rate let a water particle run to 0.3 l0 of an air
  * particle, which then joined the liquid solve at n/n0 = 3.3 and the run
- * diverged: docs/two-phase.md), and a light
- * particle that joined the liquid solve (last step) collides as liquid,
- * half each. Particles of one phase share by mass, as without two phases. */
+ * diverged: docs/two-phase.md), and a light particle that joined the
+ * liquid solve (last step) collides as liquid, half each. Particles of one
+ * phase share by mass, as without two phases. */
 #include "core/core.h"
 #include "two_phase/two_phase.h"
 
