@@ -1,8 +1,9 @@
 """The validation page's figures (docs/validation.md): still water, the dam
-break against Martin & Moyce (1952) and the impact pressure against Buchner
-(2002), for the default scheme and Koshizuka and Oka's (scheme koshizuka1996).
+break against Martin & Moyce (1952), the impact pressure against Buchner
+(2002) and a stream turning up a wall against free-streamline theory, for
+the default scheme and Koshizuka and Oka's (scheme koshizuka1996).
 
-    python3 examples/validation.py still|dam|shift|buchner|all [--quick] [--out DIR]
+    python3 examples/validation.py still|dam|shift|buchner|turning|all [--quick] [--out DIR]
     python3 examples/validation.py tables [--out DIR]   # the JSONs as Markdown
 
 Each case writes CSV series, a JSON summary and PNG pictures into DIR
@@ -380,6 +381,125 @@ def run_buchner(out, quick):
     return summaries
 
 
+def turning_theory(y, h):
+    """Wall pressure over rho U^2 / 2 at height y where a stream of depth h
+    along a floor turns up a wall, without gravity: the free-streamline
+    solution (the symmetric half of a jet 2h wide meeting a plate), on the
+    wall y = (4h/pi)(artanh q + arctan q), q the speed over U, and
+    p = rho (U^2 - q^2 U^2) / 2. Its integral over the wall is rho U^2 h."""
+    lo, hi = 0.0, 1.0
+    for _ in range(100):  # bisection: y(q) rises monotonically from 0 to infinity
+        q = 0.5 * (lo + hi)
+        if 4 * h / math.pi * (math.atanh(q) + math.atan(q)) < y:
+            lo = q
+        else:
+            hi = q
+    q = 0.5 * (lo + hi)
+    return 1.0 - q * q
+
+
+TURNING_HEIGHTS = (0.25, 0.5, 1.0, 1.5, 2.0, 3.0)  # over the stream's depth
+
+
+def turning_stream(label, settings, l0=0.01, h=0.1, U=1.0, length=2.0, end=1.25, every=0.005,
+                   picture_at=0.9):
+    """A slab of water h deep and `length` long moving at U along the floor,
+    without gravity, into the right wall 0.1 m ahead of it: wall pressure
+    (probes half a spacing inside the water, as Buchner's) averaged from the
+    time the turn has formed (2 h / U after contact) to `end`, against
+    turning_theory; the wall's force from probes every l0 up to 6 h, over
+    rho U^2 h; the sheet's speed and fluid per height between 4 and 6 h."""
+    x0, gap = 0.1, 0.1
+    wall = x0 + length + gap
+    with mps2p.Scene(l0) as scene:
+        scene.set(**{"gravity_y": 0.0, "dt": 5e-4, **settings})
+        water = scene.add_fluid("water", RHO, 1e-6)
+        xs = x0 + l0 * (np.arange(int(round(length / l0))) + 0.5)
+        ys = l0 * (np.arange(int(round(h / l0))) + 0.5)
+        grid = np.array(np.meshgrid(xs, ys, indexing="ij")).reshape(2, -1).T
+        velocity = np.zeros_like(grid)
+        velocity[:, 0] = U
+        scene.add_particles(grid, np.full(len(grid), mps2p.KIND_FLUID, dtype=np.intc),
+                            np.full(len(grid), water, dtype=np.intc), velocity)
+        scene.add_tank(0.0, 0.0, wall + 1e-9, U * end + 1.0, open_top=True)
+        solver = mps2p.Solver(scene)
+    probes = [[wall - 0.5 * l0, f * h] for f in TURNING_HEIGHTS]
+    column = [[wall - 0.5 * l0, l0 * (k + 0.5)] for k in range(int(round(6 * h / l0)))]
+    stagnation = 0.5 * RHO * U * U
+    fluid = solver.kinds() == mps2p.KIND_FLUID
+    start = gap / U + 2 * h / U
+    rows, force, sheet, picture = [], [], [], None
+    for k in range(1, int(round(end / every)) + 1):
+        solver.advance_to(k * every)
+        rows.append([solver.time] + list(solver.probe(probes)[0] / stagnation))
+        if picture is None and solver.time >= picture_at - 1e-9:
+            picture = (solver.time, solver.positions() - [wall, 0.0],
+                       solver.pressure() / stagnation, solver.kinds())
+        if solver.time < start:
+            continue
+        force.append(solver.probe(column)[0].sum() * l0 / (RHO * U * U * h))
+        r, u = solver.positions()[fluid], solver.velocities()[fluid]
+        band = (r[:, 1] > 4 * h) & (r[:, 1] < 6 * h)
+        if band.any():
+            sheet.append((u[band, 1].mean() / U, band.sum() * l0 * l0 / (2 * h) / h))
+    arr = np.array(rows)
+    steady = arr[:, 0] >= start
+    sheet = np.array(sheet)
+    return arr, {"label": label, "settings": settings, "l0": l0, "h": h, "U": U,
+                 "window": [start, float(arr[-1, 0])], "heights_over_h": list(TURNING_HEIGHTS),
+                 "p_mean": [float(v) for v in arr[steady, 1:].mean(axis=0)],
+                 "p_std": [float(v) for v in arr[steady, 1:].std(axis=0)],
+                 "p_theory": [turning_theory(f * h, h) for f in TURNING_HEIGHTS],
+                 "force": float(np.mean(force)),
+                 "sheet_speed": float(sheet[:, 0].mean()), "sheet_fluid": float(sheet[:, 1].mean()),
+                 "steps": solver.step_count}, picture
+
+
+def run_turning(out, quick):
+    runs = [("corrected", {}), ("koshizuka1996", {"scheme": "koshizuka1996"}),
+            ("corrected, collision 0.95 l0", {"collision_distance": 0.95})]
+    if quick:
+        runs = runs[:1]
+    summaries = []
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 1 + len(runs), figsize=(6 + 3.2 * len(runs), 5.5),
+                             gridspec_kw={"width_ratios": [2] + [1] * len(runs)})
+    axes = np.atleast_1d(axes)
+    ax = axes[0]
+    fine = np.linspace(0.02, 4.0, 200)
+    ax.plot([turning_theory(f, 1.0) for f in fine], fine, "k-", label="free-streamline theory")
+    for n, (label, settings) in enumerate(runs):
+        print("turning stream, %s" % label)
+        rows, s, picture = turning_stream(label, settings)
+        slug = label.replace(", ", "_").replace(" ", "_").replace(".", "")
+        write_csv(os.path.join(out, "turning_%s.csv" % slug),
+                  ["t"] + ["p_%gh" % f for f in TURNING_HEIGHTS], rows)
+        summaries.append(s)
+        offset = 0.04 * (n - 1)  # the bars side by side
+        ax.errorbar(s["p_mean"], np.array(TURNING_HEIGHTS) + offset, xerr=s["p_std"], fmt="o-",
+                    capsize=2, lw=1, label="%s (force %.2f rho U^2 h)" % (label, s["force"]))
+        t, r, p, kind = picture
+        fluid = kind == mps2p.KIND_FLUID
+        shown = axes[1 + n].scatter(r[fluid, 0], r[fluid, 1], c=p[fluid], s=4, cmap="viridis",
+                                    vmin=0.0, vmax=1.5)
+        axes[1 + n].scatter(r[~fluid, 0], r[~fluid, 1], c="0.6", s=1)
+        axes[1 + n].set_xlim(-0.45, 0.04)
+        axes[1 + n].set_ylim(-0.04, 0.9)
+        axes[1 + n].set_aspect("equal")
+        axes[1 + n].set_title("%s, t = %.2f s" % (label, t), fontsize=8)
+        print("  " + json.dumps(s))
+    ax.set_xlabel("wall pressure / (rho U^2 / 2), mean and standard deviation")
+    ax.set_ylabel("height on the wall / stream depth h")
+    ax.set_xlim(-0.1, 1.9)
+    ax.set_title("A stream turning up a wall (no gravity, h = 10 l0)")
+    ax.legend(fontsize=7)
+    fig.colorbar(shown, ax=axes[1:], label="p / (rho U^2 / 2)", shrink=0.8)
+    fig.savefig(os.path.join(out, "turning.png"), dpi=110)
+    return summaries
+
+
 def tables(out):
     """The JSON summaries as docs/validation.md's Markdown tables."""
     def load(name):
@@ -414,13 +534,25 @@ def tables(out):
             r["scheme"], r["H_over_l0"], r["particles"],
             "%.2f" % r["impact_t"] if r["impact_t"] is not None else "never",
             r["peak"], r["plateau_3_5"], r["rms_difference_2_7"], r["noise_2_7"]))
+    if os.path.exists(os.path.join(out, "turning.json")):
+        turning = load("turning")
+        lines += ["", "| scheme | " + " | ".join("y = %gh" % f for f in turning[0]["heights_over_h"])
+                  + " | wall force / rho U^2 h | sheet speed / U (4-6 h) | sheet's fluid / h |",
+                  "|---|" + "---|" * (len(turning[0]["heights_over_h"]) + 3),
+                  "| free-streamline theory | " + " | ".join("%.2f" % v for v in turning[0]["p_theory"])
+                  + " | 1 | 1 | 1 |"]
+        for r in turning:
+            lines.append("| %s | " % r["label"] + " | ".join(
+                "%.2f (%.2f)" % (m, d) for m, d in zip(r["p_mean"], r["p_std"])) +
+                " | %.2f | %.2f | %.2f |" % (r["force"], r["sheet_speed"], r["sheet_fluid"]))
     print("\n".join(lines))
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("case", choices=("still", "dam", "shift", "buchner", "all", "tables"),
-                        help="a case, all four, or tables: the JSON summaries in --out as "
+    parser.add_argument("case", choices=("still", "dam", "shift", "buchner", "turning", "all",
+                                         "tables"),
+                        help="a case, all five, or tables: the JSON summaries in --out as "
                              "Markdown (the shift case's table is written by hand)")
     parser.add_argument("--quick", action="store_true", help="shorter runs (see the module help)")
     parser.add_argument("--out", default=os.path.join("out", "validation"),
@@ -430,8 +562,9 @@ def main(argv=None):
         tables(args.out)
         return 0
     os.makedirs(args.out, exist_ok=True)
-    cases = ("still", "dam", "shift", "buchner") if args.case == "all" else (args.case,)
-    runners = {"still": run_still, "dam": run_dam, "shift": run_shift, "buchner": run_buchner}
+    cases = ("still", "dam", "shift", "buchner", "turning") if args.case == "all" else (args.case,)
+    runners = {"still": run_still, "dam": run_dam, "shift": run_shift, "buchner": run_buchner,
+               "turning": run_turning}
     for case in cases:
         summary = runners[case](args.out, args.quick)
         with open(os.path.join(args.out, case + ".json"), "w") as f:
