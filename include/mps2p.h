@@ -207,8 +207,9 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
                                     double *value);
 
 /* Choices, by name:
- *   pressure_solver   "cholmod" (default, sparse direct) or "cg"
- *                     (preconditioned conjugate gradients, cg_tolerance), or
+ *   pressure_solver   "cg" (default: preconditioned conjugate gradients to
+ *                     cg_tolerance), "cholmod" (sparse direct; slower from a
+ *                     few hundred particles on: docs/performance.md), or
  *                     "gamg": PETSc's CG with its algebraic multigrid
  *                     (cg_tolerance, cg_max_iterations), only in a build
  *                     with PETSc (listed by mps2p_option_choice there;

@@ -239,7 +239,7 @@ void params_set_defaults(params *p)
 {
     for (size_t i = 0; i < TABLE_SIZE; i++)
         *slot(p, &table[i]) = table[i].default_value;
-    p->pressure_solver = PRESSURE_SOLVER_CHOLMOD;
+    p->pressure_solver = PRESSURE_SOLVER_CG;
     p->cg_preconditioner = CG_PRECONDITIONER_TWO_LEVEL;
     p->ppe_pattern = PPE_PATTERN_DISTANCE;
     scheme_apply(p, &schemes[0]);

@@ -115,7 +115,7 @@ def test_open_results_gives_numpy_arrays_and_str_metadata(tmp_path):
         assert r.metadata["library_version"] == mps2p.__version__
         assert type(r.metadata["particle_count"]) is int
         assert r.metadata["l0"] == 0.02
-        assert r.parameters["pressure_solver"] == "cholmod" and r.parameters["beta"] == 0.97
+        assert r.parameters["pressure_solver"] == "cg" and r.parameters["beta"] == 0.97
         assert r.fluids == [("water", 1000.0, 1e-6)]
         assert r.scene_text == "# the scene"
         assert len(r) == 3 and r.times.tolist() == [0.0] + [e[0] for e in expected]

@@ -143,7 +143,7 @@ def plan(quick):
                 ("koshizuka1996", {"scheme": "koshizuka1996"})]
         else:
             variants = [("cfl 0.1", {"cfl": 0.1}), ("cfl 0.4", {"cfl": 0.4}),
-                        ("cg 1e-9", {"pressure_solver": "cg"}),
+                        ("cholmod", {"pressure_solver": "cholmod"}),
                         ("koshizuka1996", {"scheme": "koshizuka1996"})]
         if not quick and problem != "two_phase":
             variants += [("cg 1e-6", {"pressure_solver": "cg", "cg_tolerance": 1e-6}),
