@@ -20,9 +20,9 @@
  * memory so far (run one l0 per process for each l0's own peak).
  *
  *   throughput [steps [solver [case] [l0 ...]]]
- *       solver: cholmod (default), cg, or gamg (a build with PETSc);
- *       case: water (default) or two_phase. MPS2P_PRECONDITIONER=ic0 or two_level sets CG's
- *       preconditioner (default jacobi). */
+ *       solver: cholmod (this tool's default; the library's is cg), cg, or gamg (a build
+ *       with PETSc); case: water (default) or two_phase. MPS2P_PRECONDITIONER=jacobi, ic0
+ *       or two_level sets CG's preconditioner (default: the library's, two_level). */
 #include <mps2p.h>
 
 #include <math.h>

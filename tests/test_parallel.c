@@ -56,6 +56,7 @@ int main(void)
 {
     /* the paper's dam break, CHOLMOD: the particle loops and the assembly */
     mps2p_scene *scene = dam_break_scene(0.01);
+    MUST(mps2p_scene_set_option(scene, "pressure_solver", "cholmod"));
     compare_counts(scene, 60, "dam break (cholmod)");
     /* a CG solve over more than one block of REDUCTION_BLOCK unknowns */
     mps2p_scene *column;

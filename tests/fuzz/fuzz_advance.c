@@ -123,7 +123,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     uint8_t variant = take_u8(&in);
     static const double fixed[] = {1e-3, 2e-3, 3.7e-4, 1e-5};
     double fixed_dt = variant & 0x80 ? fixed[(variant >> 4) & 3] : 0.0;
-    /* defaults: adaptive dt, cholmod, density source, minimum gradient, water */
+    /* the reference numerics (the defaults when this was written): adaptive dt,
+     * cholmod, density source, minimum gradient, water */
     const int default_numerics = !(variant & 0xC9) && (variant >> 1) % 3 == 0;
     mps2p_solver *solver = make_solver(variant, fixed_dt);
     mps2p_state *state = NULL;
