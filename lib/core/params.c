@@ -38,7 +38,7 @@ static const param_entry table[] = {
      "too-close distance of the collision model, in l0; 0 = off"},
     {"collision_time", FIELD(collision_time), 0.03, 0.0, 1e6,
      "the collision model gives dt / tau of its impulse a step (at most all), tau = "
-     "collision_time sqrt(l0 / |g|); 0 = all of it every step"},
+     "collision_time sqrt(l0 / |g|); 0, or no gravity, = all of it every step"},
     {"collision_restitution", FIELD(collision_restitution), 0.2, 0.0, 1.0,
      "restitution coefficient of the collision model"},
     {"ppe_relaxation", FIELD(ppe_relaxation), 0.2, 1e-6, 1.0,
