@@ -68,7 +68,8 @@ def test_info_with_a_scene_describes_it_without_running():
 def test_a_diverging_run_exits_1_and_keeps_its_files(tmp_path):
     scene = tmp_path / "blows_up.toml"
     text = open(os.path.join(SCENES, "dam_break.toml")).read()
-    scene.write_text(text.replace("[options]", "[parameters]\npressure_limit = 1.0\n\n[options]"))
+    assert "[parameters]" not in text and "[run]" in text
+    scene.write_text(text.replace("[run]", "[parameters]\npressure_limit = 1.0\n\n[run]"))
     result = mps2p("run", str(scene), "--out", str(tmp_path / "out"), "--quiet", "--no-pictures")
     assert result.returncode == 1
     assert "diverged" in result.stderr and "particle" in result.stderr
