@@ -186,7 +186,6 @@ int coarse_level_setup(coarse_level *c, const sparse_matrix *a, char *message, s
  * fails (out of memory). */
 const double *coarse_level_solve(coarse_level *c, const double *r, const int **aggregate_of);
 
-
 /* kind: enum pressure_solver_kind; preconditioner: enum cg_preconditioner_kind
  * (CG only); threads: parameter threads, for CG's loops (team_size). Fails
  * with a message: MPS2P_ERR_NOMEM, or MPS2P_ERR_INVALID for gamg in a build
