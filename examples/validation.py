@@ -1,9 +1,10 @@
 """The validation page's figures (docs/validation.md): still water, the dam
 break against Martin & Moyce (1952), the impact pressure against Buchner
-(2002) and a stream turning up a wall against free-streamline theory, for
-the default scheme and Koshizuka and Oka's (scheme koshizuka1996).
+(2002), a stream turning up a wall against free-streamline theory, and
+Buchner's stream alone turning up the wall, for the default scheme and
+Koshizuka and Oka's (scheme koshizuka1996).
 
-    python3 examples/validation.py still|dam|shift|buchner|turning|all [--quick] [--out DIR]
+    python3 examples/validation.py still|dam|shift|buchner|turning|stream|all [--quick] [--out DIR]
     python3 examples/validation.py tables [--out DIR]   # the JSONs as Markdown
 
 Each case writes CSV series, a JSON summary and PNG pictures into DIR
@@ -441,7 +442,7 @@ TURNING_HEIGHTS = (0.25, 0.5, 1.0, 1.5, 2.0, 3.0)  # over the stream's depth
 
 
 def turning_stream(label, settings, l0=0.01, h=0.1, U=1.0, length=2.0, end=1.25, every=0.005,
-                   picture_at=0.9):
+                   picture_at=0.9, heights=TURNING_HEIGHTS):
     """A slab of water h deep and `length` long moving at U along the floor,
     without gravity, into the right wall 0.1 m ahead of it: wall pressure
     (probes half a spacing inside the water, as Buchner's) averaged from the
@@ -462,7 +463,7 @@ def turning_stream(label, settings, l0=0.01, h=0.1, U=1.0, length=2.0, end=1.25,
                             np.full(len(grid), water, dtype=np.intc), velocity)
         scene.add_tank(0.0, 0.0, wall + 1e-9, U * end + 1.0, open_top=True)
         solver = mps2p.Solver(scene)
-    probes = [[wall - 0.5 * l0, f * h] for f in TURNING_HEIGHTS]
+    probes = [[wall - 0.5 * l0, f * h] for f in heights]
     column = [[wall - 0.5 * l0, l0 * (k + 0.5)] for k in range(int(round(6 * h / l0)))]
     stagnation = 0.5 * RHO * U * U
     fluid = solver.kinds() == mps2p.KIND_FLUID
@@ -485,10 +486,10 @@ def turning_stream(label, settings, l0=0.01, h=0.1, U=1.0, length=2.0, end=1.25,
     steady = arr[:, 0] >= start
     sheet = np.array(sheet)
     return arr, {"label": label, "settings": settings, "l0": l0, "h": h, "U": U,
-                 "window": [start, float(arr[-1, 0])], "heights_over_h": list(TURNING_HEIGHTS),
+                 "window": [start, float(arr[-1, 0])], "heights_over_h": list(heights),
                  "p_mean": [float(v) for v in arr[steady, 1:].mean(axis=0)],
                  "p_std": [float(v) for v in arr[steady, 1:].std(axis=0)],
-                 "p_theory": [turning_theory(f * h, h) for f in TURNING_HEIGHTS],
+                 "p_theory": [turning_theory(f * h, h) for f in heights],
                  "force": float(np.mean(force)),
                  "sheet_speed": float(sheet[:, 0].mean()), "sheet_fluid": float(sheet[:, 1].mean()),
                  "steps": solver.step_count}, picture
@@ -536,6 +537,37 @@ def run_turning(out, quick):
     ax.legend(fontsize=7)
     fig.colorbar(shown, ax=axes[1:], label="p / (rho U^2 / 2)", shrink=0.8)
     fig.savefig(os.path.join(out, "turning.png"), dpi=110)
+    return summaries
+
+
+# Buchner's stream where it meets the wall at t* = 4 (Ritter's solution 2.02 m
+# from the gate: 0.0896 m deep at 2.98 m/s), with gravity, at H/l0 = 40; P1 at
+# 0.16 m is 1.78 of its depth. 2.02 m of slab puts the wall on the lattice.
+STREAM = {"l0": 0.015, "h": 0.0896, "U": 2.98, "length": 2.02, "end": 0.75, "every": 0.0025,
+          "picture_at": 0.5, "heights": (0.25, 0.5, 1.0, 0.16 / 0.0896, 2.0, 3.0)}
+
+
+def run_stream(out, quick):
+    """Buchner's plateau on its own: a uniform stream as deep and fast as
+    Ritter's at the wall, with gravity, turning up the wall; P1's reading
+    over rho g H (H = 0.6 m) beside Buchner's plateau (0.55) and the
+    gravity-free theory's."""
+    # the turn is chaotic (the readings' standard deviation is most of their
+    # mean): three runs a scheme, perturbed in dt
+    runs = [("corrected", {}), ("koshizuka1996", {"scheme": "koshizuka1996"})]
+    steps = (2e-4, 2.5e-4, 3.2e-4)
+    if quick:
+        runs, steps = runs[:1], steps[1:2]
+    summaries = []
+    stagnation_over_rho_g_H = 0.5 * STREAM["U"] ** 2 / (G * 0.6)
+    for (scheme, settings), dt in ((r, dt) for r in runs for dt in steps):
+        label = "%s, dt %g s" % (scheme, dt)
+        print("Buchner's stream turning, %s" % label)
+        _, s, _ = turning_stream(label, {"gravity_y": -G, "dt": dt, **settings}, **STREAM)
+        s["P1_over_rho_g_H"] = s["p_mean"][3] * stagnation_over_rho_g_H
+        s["P1_theory_over_rho_g_H"] = s["p_theory"][3] * stagnation_over_rho_g_H
+        summaries.append(s)
+        print("  " + json.dumps(s))
     return summaries
 
 
@@ -587,12 +619,24 @@ def tables(out):
             lines.append("| %s | " % r["label"] + " | ".join(
                 "%.2f (%.2f)" % (m, d) for m, d in zip(r["p_mean"], r["p_std"])) +
                 " | %.2f | %.2f | %.2f |" % (r["force"], r["sheet_speed"], r["sheet_fluid"]))
+    if os.path.exists(os.path.join(out, "stream.json")):
+        stream = load("stream")
+        lines += ["", "| scheme | " + " | ".join("y = %.2gh" % f for f in stream[0]["heights_over_h"])
+                  + " | wall force / rho U^2 h | P1 / (rho g H) (Buchner 0.55) |",
+                  "|---|" + "---|" * (len(stream[0]["heights_over_h"]) + 2),
+                  "| free-streamline theory, no gravity | " + " | ".join(
+                      "%.2f" % v for v in stream[0]["p_theory"]) + " | 1 | %.2f |"
+                  % stream[0]["P1_theory_over_rho_g_H"]]
+        for r in stream:
+            lines.append("| %s | " % r["label"] + " | ".join(
+                "%.2f (%.2f)" % (m, d) for m, d in zip(r["p_mean"], r["p_std"])) +
+                " | %.2f | %.2f |" % (r["force"], r["P1_over_rho_g_H"]))
     print("\n".join(lines))
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("case", choices=("still", "dam", "shift", "buchner", "turning", "all",
+    parser.add_argument("case", choices=("still", "dam", "shift", "buchner", "turning", "stream", "all",
                                          "tables"),
                         help="a case, all five, or tables: the JSON summaries in --out as "
                              "Markdown (the shift case's table is written by hand)")
@@ -604,9 +648,10 @@ def main(argv=None):
         tables(args.out)
         return 0
     os.makedirs(args.out, exist_ok=True)
-    cases = ("still", "dam", "shift", "buchner", "turning") if args.case == "all" else (args.case,)
+    cases = (("still", "dam", "shift", "buchner", "turning", "stream") if args.case == "all"
+             else (args.case,))
     runners = {"still": run_still, "dam": run_dam, "shift": run_shift, "buchner": run_buchner,
-               "turning": run_turning}
+               "turning": run_turning, "stream": run_stream}
     for case in cases:
         summary = runners[case](args.out, args.quick)
         with open(os.path.join(args.out, case + ".json"), "w") as f:
