@@ -86,6 +86,17 @@ def test_a_bad_scene_is_one_clear_line_and_exit_2(tmp_path):
     assert result.stderr.strip() == "mps2p: %s: run.end_time: missing" % bad
 
 
+def test_every_problem_of_a_bad_scene_is_its_own_line(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[run]\nl0 = 0.01\nspeed = 2\n")
+    result = mps2p("check", str(bad))
+    assert result.returncode == 2
+    assert result.stderr.splitlines() == [
+        "mps2p: %s: run.speed: unknown key (known: description, end_time, l0, name, "
+        "picture_times, series_every, snapshot_every)" % bad,
+        "mps2p: %s: run.end_time: missing" % bad]
+
+
 # -- issue 19: examples by name, --version, help --------------------------------
 
 def test_examples_are_listed_and_run_by_name(tmp_path):

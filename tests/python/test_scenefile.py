@@ -78,6 +78,28 @@ def test_wrong_files_name_the_file_key_and_reason(tmp_path, change, key, reason)
     assert message.startswith(path + ": ") and key in message and reason in message, message
 
 
+def test_every_problem_at_once(tmp_path):
+    """A file with three mistakes in its structure names all three, one line
+    each; once the structure is sound, every mistake in its values."""
+    text = GOOD.replace("l0 = 0.02", "l0 = 0.02\nsped = 1").replace(
+        "density = 1000.0", "density = \"heavy\"").replace(
+        "box = [0.0, 0.0, 0.6, 0.5]", "box = [0.0, 0.0, 0.6]")
+    with pytest.raises(mps2p.SceneFileError) as caught:
+        scenefile.load(write(tmp_path, text))
+    lines = str(caught.value).splitlines()
+    assert len(lines) == 3, lines
+    assert any("run.sped: unknown key" in line for line in lines)
+    assert any("fluid[0].density: must be a finite number" in line for line in lines)
+    assert any("tank[0].box: must be 4 numbers" in line for line in lines)
+    text = GOOD.replace("end_time = 0.02", "end_time = -1").replace(
+        'fluid = "water"', 'fluid = "oil"')
+    with pytest.raises(mps2p.SceneFileError) as caught:
+        scenefile.load(write(tmp_path, text))
+    lines = str(caught.value).splitlines()
+    assert len(lines) == 2, lines
+    assert "run.end_time: must be > 0" in lines[0] and "fluid_box[0].fluid" in lines[1]
+
+
 def test_not_toml_and_missing_file(tmp_path):
     with pytest.raises(mps2p.SceneFileError, match="not valid TOML"):
         scenefile.load(write(tmp_path, "[run\nl0 = 1"))

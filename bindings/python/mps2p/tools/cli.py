@@ -13,7 +13,8 @@
 
 SCENE is a scene file (TOML) or the name of an example scene (`mps2p examples`).
 Exit status: 0 done, 1 the run diverged or its pressure solve failed (stability: or
-a check failed), 2 bad input (one line on stderr, nothing written), 130 interrupted.
+a check failed), 2 bad input (one line on stderr a problem, nothing written), 130
+interrupted.
 """
 import argparse
 import json
@@ -140,7 +141,8 @@ def main(argv=None):
             return _stability(args)
         return _info(args)
     except errors.Error as e:
-        print("mps2p: %s" % e, file=sys.stderr)
+        for line in str(e).splitlines() or [""]:  # a scene file's problems, one a line
+            print("mps2p: %s" % line, file=sys.stderr)
         return 2
     except OSError as e:  # a file the command writes itself
         print("mps2p: %s%s" % (e.strerror or e, ": %s" % e.filename if e.filename else ""),

@@ -238,9 +238,17 @@ def load(path):
 
 
 def check(path, data):
-    """Refuses unknown keys, wrong types and impossible values, naming the key."""
+    """Refuses unknown keys, wrong types and impossible values, naming each
+    key: every problem of the file's structure at once, then (once that is
+    sound) every problem of its values, one line each."""
+    problems = []
+
     def fail(key, reason):
-        raise errors.SceneFileError("%s: %s: %s" % (path, key, reason))
+        problems.append("%s: %s: %s" % (path, key, reason))
+
+    def stop_if_any():
+        if problems:
+            raise errors.SceneFileError("\n".join(problems))
 
     known = set(SCHEMA) | {"parameters", "options", "effects"}
     for key in data:
@@ -252,6 +260,7 @@ def check(path, data):
         table = data.get(section, {})
         if not isinstance(table, dict):
             fail(section, "must be a table")
+            continue
         for key, value in table.items():
             want_str = section != "parameters"
             if want_str and not isinstance(value, str):
@@ -265,21 +274,26 @@ def check(path, data):
         if section in ARRAYS_OF_TABLES:
             if not isinstance(entries, list):
                 fail(section, "must be an array of tables ([[%s]])" % section)
+                continue
             labelled = [("%s[%d]" % (section, i), e) for i, e in enumerate(entries)]
         else:
             if not isinstance(entries, dict):
                 fail(section, "must be a table ([%s])" % section)
+                continue
             labelled = [(section, entries)]
         for label, entry in labelled:
             if not isinstance(entry, dict):
                 fail(label, "must be a table")
+                continue
             for key, value in entry.items():
                 if key not in fields:
                     fail("%s.%s" % (label, key),
                          "unknown key (known: %s)" % ", ".join(sorted(fields)))
-                _check_value(fail, "%s.%s" % (label, key), fields[key], value)
+                else:
+                    _check_value(fail, "%s.%s" % (label, key), fields[key], value)
             for key in sorted(required - set(entry)):
                 fail("%s.%s" % (label, key), "missing")
+    stop_if_any()  # what follows reads the values the structure promised
     run = data["run"]
     for key in ("l0", "end_time"):
         if not run[key] > 0:
@@ -290,10 +304,11 @@ def check(path, data):
     for key in ("snapshot_every", "series_every"):
         if key in run and run[key] < 0:
             fail("run." + key, "must be >= 0, got %r" % run[key])
-    schedule_problem = check_schedule(run["end_time"], run.get("snapshot_every", 0.0),
-                                      run.get("series_every", 0.0))
-    if schedule_problem:
-        fail(*schedule_problem)
+    if run["end_time"] > 0:
+        schedule_problem = check_schedule(run["end_time"], run.get("snapshot_every", 0.0),
+                                          run.get("series_every", 0.0))
+        if schedule_problem:
+            fail(*schedule_problem)
     for t in run.get("picture_times", []):
         if not 0 <= t <= run["end_time"]:
             fail("run.picture_times", "each time must be in [0, end_time], got %r" % t)
@@ -304,6 +319,7 @@ def check(path, data):
         if b["fluid"] not in names:
             fail("fluid_box[%d].fluid" % i, "no fluid named %r (fluids: %s)" % (b["fluid"], names))
     _check_probes(fail, data.get("probe", []), names)
+    stop_if_any()
 
 
 def check_schedule(end_time, snapshot_every, series_every):
@@ -344,6 +360,7 @@ def _check_probes(fail, probes, fluid_names):
         kind = p["type"]
         if kind not in PROBE_KEYS:
             fail(label + ".type", "must be one of %s, got %r" % (sorted(PROBE_KEYS), kind))
+            continue
         extra = set(p) - {"name", "type"} - PROBE_KEYS[kind]
         if extra:
             fail(label, "keys %s do not apply to a %s probe" % (sorted(extra), kind))
@@ -360,6 +377,7 @@ def _check_probes(fail, probes, fluid_names):
                 fail(label + ".column_width", "must be > 0, got %r" % p["column_width"])
         if missing:
             fail(label, "a %s probe needs %s" % (kind, sorted(missing)))
+            continue
         if "fluid" in p and p["fluid"] not in fluid_names:
             fail(label + ".fluid", "no fluid named %r (fluids: %s)" % (p["fluid"], fluid_names))
         if kind == "stat" and p["stat"] not in STAT_KEYS:
@@ -387,5 +405,6 @@ def _check_value(fail, key, kind, value):
         size = 4 if kind == BOX else 2
         if not (isinstance(value, list) and len(value) == size and all(map(_is_number, value))):
             fail(key, "must be %d numbers, got %r" % (size, value))
+            return
         if kind == BOX and not (value[2] > value[0] and value[3] > value[1]):
             fail(key, "box [x0, y0, x1, y1] needs x1 > x0 and y1 > y0, got %r" % (value,))
