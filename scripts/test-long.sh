@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# The long suite (not part of scripts/test.sh; about half an hour on 2 cores):
+# The long suite (not part of scripts/test.sh; about an hour on 2 cores):
 # 10 s of still water in the 0.3 m and 0.2 m tanks against issue 15's bars
 # (meson suite "long"), then examples/validation.py's full runs (still water
 # for both schemes, the dam break at four spacings, Buchner's impact pressure
-# at H/l0 = 40 and 80, the stream turning up a wall) into out/validation, whose numbers docs/validation.md
-# quotes, and the two-phase ladder's 10 s rung (MPS2P_LONG=1). The full
+# at H/l0 = 40 and 80, the stream turning up a wall, Buchner's stream alone)
+# into out/validation, whose numbers docs/validation.md quotes, and the two-phase ladder's 10 s rung (MPS2P_LONG=1). The full
 # accuracy-cost study is `mps2p study` (docs/accuracy-cost.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
