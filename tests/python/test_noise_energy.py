@@ -33,9 +33,9 @@ def test_one_moving_particle_among_resting_ones():
     within 2.1 l0 on the lattice (13 in its mean with itself): its own
     deviation is v (1 - 1/13), each neighbour's v/13 (its mean also has 13
     members, the moving one among them)."""
-    xy = lattice(15)
+    xy = lattice(30)  # 900 particles: the sum runs in blocks of 256 rows
     uv = np.zeros_like(xy)
-    centre = 7 * 15 + 7
+    centre = 20 * 30 + 15  # a row of the third block
     uv[centre] = [2.0, 0.0]
     expected = 0.5 * (2.0 * (1 - 1 / 13)) ** 2 + 12 * 0.5 * (2.0 / 13) ** 2
     assert validation.noise_energy(xy, uv, L0) == pytest.approx(expected, rel=1e-12)

@@ -80,8 +80,10 @@ def test_wrong_files_name_the_file_key_and_reason(tmp_path, change, key, reason)
 
 def test_every_problem_at_once(tmp_path):
     """A file with three mistakes in its structure names all three, one line
-    each; once the structure is sound, every mistake in its values."""
+    each, and not yet its value's mistake (end_time); once the structure is
+    sound, every mistake in its values."""
     text = GOOD.replace("l0 = 0.02", "l0 = 0.02\nsped = 1").replace(
+        "end_time = 0.02", "end_time = -1").replace(
         "density = 1000.0", "density = \"heavy\"").replace(
         "box = [0.0, 0.0, 0.6, 0.5]", "box = [0.0, 0.0, 0.6]")
     with pytest.raises(mps2p.SceneFileError) as caught:

@@ -13,7 +13,7 @@
 
 SCENE is a scene file (TOML) or the name of an example scene (`mps2p examples`).
 Exit status: 0 done, 1 the run diverged or its pressure solve failed (stability: or
-a check failed), 2 bad input (one line on stderr a problem, nothing written), 130
+a check failed), 2 bad input (one line on stderr per problem, nothing written), 130
 interrupted.
 """
 import argparse

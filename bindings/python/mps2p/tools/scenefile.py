@@ -309,7 +309,7 @@ def check(path, data):
                                           run.get("series_every", 0.0))
         if schedule_problem:
             fail(*schedule_problem)
-    for t in run.get("picture_times", []):
+    for t in run.get("picture_times", []) if run["end_time"] > 0 else []:
         if not 0 <= t <= run["end_time"]:
             fail("run.picture_times", "each time must be in [0, end_time], got %r" % t)
     names = [f["name"] for f in data.get("fluid", [])]
