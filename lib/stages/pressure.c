@@ -252,7 +252,7 @@ int pressure_solve_system(mps2p_solver *s, ppe_system *sys)
         return fail(s->error, status, "step %llu at t = %.6g s: pressure solve failed: %s",
                     (unsigned long long)s->steps + 1, s->time, message);
 
-    int clamp = s->params.clamp_negative_pressure != 0.0;
+    int clamp = s->params.clamp_negative_pressure != 0.0 && !sys->keep_negative;
     PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         double p = s->unknown_of[i] >= 0 ? s->solution[s->unknown_of[i]] : 0.0;

@@ -106,6 +106,7 @@ typedef struct ppe_system {
     double tolerance;           /* CG tolerance; 0 = cg_tolerance */
     int hydrostatic_ghosts;     /* dummies and dry walls as ghosts (option wall_ghosts) */
     int density_source;         /* Koshizuka's source gamma (n* - n0) whatever ppe_source */
+    int keep_negative;          /* negative pressures kept whatever clamp_negative_pressure */
     size_t unknowns, iterations;
     double residual;
 } ppe_system;

@@ -3,13 +3,15 @@
  * particles, walls) a fixed wall of gas density: it carries a pressure
  * unknown with the gas's density in its source, and it is not moved by the
  * result. Free surface where the number density of all particles is below
- * beta n0 (the top of the air). */
+ * beta n0 (the top of the air), except at a void inside the gas of the
+ * improved model (gas_free_surface). */
 #include "numerics/numerics.h"
 #include "core/core.h"
 #include "stages/stages.h"
 #include "two_phase/two_phase.h"
 
 #include <math.h>
+#include <string.h>
 
 /* Number density for the gas with each liquid particle weighted by the
  * volume it stands for, n0 / n_liquid in [1, 2]: a sparse liquid sheet
@@ -45,15 +47,98 @@ static const double *gas_number_density(mps2p_solver *s)
     return tp->gas_n;
 }
 
-int gas_pressure_solve(mps2p_solver *s, double dt)
+/* Marks gas_open: light particles the gas moves that reach its damping
+ * layer through such particles within re_density (breadth first from the
+ * layer), with the layer's bottom and up. Returns 0, marking nothing,
+ * without a gas top. */
+static int mark_open_gas(mps2p_solver *s, double *layer_bottom, double up[2])
+{
+    two_phase *tp = s->phases;
+    memset(tp->gas_open, 0, s->count);
+    if (!s->effect_active[EFFECT_GAS_BUFFER] || !tp->have_gas_top || !gravity_up(s, up))
+        return 0;
+    const double bottom = tp->gas_top - s->params.gas_buffer_depth * s->l0;
+    const double re = s->params.re_density * s->l0, re2 = re * re;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
+    const double *r = s->state.position;
+    long *queue = tp->bubble_queue; /* free after interface_join */
+    size_t head = 0, tail = 0;
+    for (size_t i = 0; i < s->count; i++)
+        if (tp->light[i] && !moves_with_liquid(s, i) &&
+            r[2 * i] * up[0] + r[2 * i + 1] * up[1] >= bottom) {
+            tp->gas_open[i] = 1;
+            queue[tail++] = (long)i;
+        }
+    while (head < tail) {
+        size_t i = (size_t)queue[head++];
+        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+            size_t j = nl.index[k];
+            if (!tp->light[j] || tp->gas_open[j] || moves_with_liquid(s, j))
+                continue;
+            double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
+            if (dx * dx + dy * dy >= re2)
+                continue;
+            tp->gas_open[j] = 1;
+            queue[tail++] = (long)j;
+        }
+    }
+    *layer_bottom = bottom;
+    return 1;
+}
+
+/* A liquid particle within re_density of particle i. */
+static int near_liquid(const mps2p_solver *s, size_t i)
+{
+    const two_phase *tp = s->phases;
+    const double re = s->params.re_density * s->l0, re2 = re * re;
+    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
+    const double *r = s->state.position;
+    for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
+        size_t j = nl.index[k];
+        double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
+        if (s->kind[j] == MPS2P_KIND_FLUID && !tp->light[j] && dx * dx + dy * dy < re2)
+            return 1;
+    }
+    return 0;
+}
+
+/* The gas PPE's free surface: number density below beta n0. In the
+ * improved model with a gas top (effect gas_buffer), a light particle of the
+ * open gas below the damping layer, with no liquid within re_density and at
+ * least VOID_EDGE_MIN n0, is not free surface: the only atmosphere is above
+ * the gas, so an empty region inside it (a splash's wake) is a void the gas
+ * closes, and its pressure may fall below the atmosphere's there (returns 1:
+ * the solve keeps negative pressures). With p = 0 at a void's edge and
+ * negative pressures clamped, nothing but gravity drew air into a wake, and
+ * the paper's case opened holes of 3-5 l0 (docs/two-phase.md). Liquid
+ * neighbours keep the old rule (suction there drew air into the gaps of a
+ * splash), and so do bubbles (their low-density particles are their only
+ * reference pressure). */
+#define VOID_EDGE_MIN 0.5
+static int gas_free_surface(mps2p_solver *s, const double *n_gas)
 {
     two_phase *tp = s->phases;
     const double threshold = s->params.beta * s->n0_density;
-    const double *n_gas = gas_number_density(s);
+    double bottom = 0.0, up[2] = {0.0, 1.0};
+    int voids = tp->improved && mark_open_gas(s, &bottom, up);
+    const double *r = s->state.position;
     for (size_t i = 0; i < s->count; i++) {
         tp->gas_part[i] = s->kind[i] != MPS2P_KIND_DUMMY;
-        tp->gas_surface[i] = tp->gas_part[i] && n_gas[i] < threshold;
+        int surface = tp->gas_part[i] && n_gas[i] < threshold;
+        if (surface && voids && tp->gas_open[i] &&
+            n_gas[i] >= VOID_EDGE_MIN * s->n0_density &&
+            r[2 * i] * up[0] + r[2 * i + 1] * up[1] < bottom && !near_liquid(s, i))
+            surface = 0;
+        tp->gas_surface[i] = (unsigned char)surface;
     }
+    return voids;
+}
+
+int gas_pressure_solve(mps2p_solver *s, double dt)
+{
+    two_phase *tp = s->phases;
+    const double *n_gas = gas_number_density(s);
+    const int voids = gas_free_surface(s, n_gas);
     ppe_system gas = {.part = tp->gas_part,
                       .surface = tp->gas_surface,
                       .n_star = n_gas,
@@ -64,7 +149,8 @@ int gas_pressure_solve(mps2p_solver *s, double dt)
                       /* n* is the liquid-weighted gas_n, n^k the plain number
                        * density: their difference (the ecs and mixed sources)
                        * is not the gas's compression */
-                      .density_source = 1};
+                      .density_source = 1,
+                      .keep_negative = voids};
     int status = pressure_assemble_system(s, dt, &gas);
     if (status == MPS2P_OK)
         status = pressure_solve_system(s, &gas);

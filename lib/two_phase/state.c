@@ -32,7 +32,7 @@
  *                    from join_weight, not saved
  * Not carried: light, gas_rho, improved and the densities come from the
  * scene; triggered, enclosed, was_joined, bubble, bubble_queue, heavy_part, gas_part, the
- * surfaces, heavy_n, heavy_n_start, gas_n and heavy_rho are
+ * surfaces, gas_open, heavy_n, heavy_n_start, gas_n and heavy_rho are
  * written for every particle in a step before they are read. */
 #include "core/core.h"
 #include "two_phase/two_phase.h"
@@ -68,6 +68,7 @@ static const field two_phase_rows[] = {
     ARRAY(gas_part, FIELD_FLAG, 0),
     ARRAY(heavy_surface, FIELD_FLAG, 0),
     ARRAY(gas_surface, FIELD_FLAG, 0),
+    ARRAY(gas_open, FIELD_FLAG, 0),
     ARRAY(heavy_n, FIELD_DOUBLE, 0),
     ARRAY(heavy_n_start, FIELD_DOUBLE, 0),
     ARRAY(gas_n, FIELD_DOUBLE, 0),

@@ -30,6 +30,7 @@ typedef struct two_phase {
     unsigned char *heavy_mask;  /* neighbours the liquid sees: not light, or joined */
     unsigned char *gas_part;    /* participants of the gas PPE */
     unsigned char *heavy_surface, *gas_surface;
+    unsigned char *gas_open;    /* light, moved by the gas, joined through gas to its top */
     double *heavy_n, *heavy_n_start; /* number density the liquid sees */
     double *heavy_pressure, *gas_pressure;
     double *gas_n;              /* number density the gas solve sees */

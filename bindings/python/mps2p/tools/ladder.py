@@ -256,6 +256,52 @@ def gas_thrown_up(speed=3.0, until=0.3, buffer=True, sample_every=0.005, path=No
                 "most_gas_outside_tank": most_out,
                 "thrown_velocity_at_end": float(s.velocities()[thrown, 1])}
 
+def droplet_thrown_up(speed=4.0, until=0.15, sample_every=0.01, path=None):
+    """The wake of a splash in the gas (under rung 4's holes): rung 2's pool
+    under 0.5 m of air, in a tank 1.2 m high, with a 3 x 3 water droplet
+    0.15 m above the pool thrown up at `speed` m/s. Reports the widest hole
+    in the gas (widest_gas_hole, l0) while the droplet is below the gas's
+    damping layer (its top under the gas's starting top less
+    gas_buffer_depth l0), and when it got there."""
+    from ..solver import Solver
+    path = path or scene_path("droplet_in_air")
+    sf = scenefile.load(path)
+    l0 = sf.l0
+    site = (0.14, 0.25, 0.17, 0.28)
+    data = dict(sf.data)
+    data["fluid_box"] = [{"fluid": "water", "box": [0.0, 0.0, 0.3, 0.1]},
+                         {"fluid": "air", "box": [0.0, 0.1, 0.3, site[1]]},
+                         {"fluid": "air", "box": [0.0, site[1], site[0], site[3]]},
+                         {"fluid": "air", "box": [site[2], site[1], 0.3, site[3]]},
+                         {"fluid": "air", "box": [0.0, site[3], 0.3, 0.6]}]
+    data["tank"] = [{"box": [0.0, 0.0, 0.3, 1.2], "open_top": True}]
+    sf = scenefile.SceneFile(path, sf.text, data)
+    tank = data["tank"][0]["box"]
+    drop = [(site[0] + (i + 0.5) * l0, site[1] + (j + 0.5) * l0)
+            for i in range(3) for j in range(3)]
+    water_id = sf.fluids.index("water")
+    with sf.build() as scene:
+        scene.add_particles(drop, [0] * 9, [water_id] * 9, [[0.0, speed]] * 9)
+        depth = scene.get_param("gas_buffer_depth")
+        s = Solver(scene)
+    with s:
+        kinds, ids = s.kinds(), s.fluid_ids()
+        light = (kinds == 0) & (ids == sf.fluids.index("air"))
+        r0 = s.positions()
+        droplet = np.flatnonzero((kinds == 0) & (ids == water_id) & (r0[:, 1] > 0.2))
+        layer = r0[light, 1].max() - depth * l0
+        widest, reached = 1.0, None
+        for k in range(1, int(round(until / sample_every)) + 1):
+            s.advance_to(k * sample_every)
+            r = s.positions()
+            if r[droplet, 1].max() + 0.5 * l0 >= layer:
+                reached = s.time
+                break
+            widest = max(widest, widest_gas_hole(r, kinds, light, tank, l0))
+        return {"speed": speed, "droplet_particles": int(len(droplet)),
+                "widest_gas_hole": widest, "reached_layer_at": reached}
+
+
 def _nearest_distance(points, particles, chunk=2048):
     """Distance from each point to its nearest particle (brute force, in
     chunks: a results snapshot is a few thousand particles)."""
@@ -454,6 +500,7 @@ RUNGS = {
     "paper_case": lambda until: paper_case(until=until or 10.0),
     "gas_thrown_up": lambda until: [gas_thrown_up(until=until or 0.3, buffer=b)
                                     for b in (True, False)],
+    "droplet_thrown_up": lambda until: droplet_thrown_up(until=until or 0.15),
 }
 
 
