@@ -105,19 +105,27 @@ static int needs_rebuild(const neighbour_list *list, const double *position)
     return moved;
 }
 
+static int skipped(const neighbour_list *list, size_t i)
+{
+    return list->skip && list->skip[i] == list->skip_value;
+}
+
 /* Counting sort of particles into cells; particles keep index order inside a
- * cell, so the lists come out the same on every run. */
+ * cell, so the lists come out the same on every run. Skipped particles are
+ * in no cell, so no row finds them. */
 static void sort_into_cells(neighbour_list *list, const double *position)
 {
     size_t cells = list->cells[0] * list->cells[1];
     memset(list->cell_start, 0, (cells + 1) * sizeof *list->cell_start);
     for (size_t i = 0; i < list->count; i++)
-        list->cell_start[cell_of(list, position, i) + 1]++;
+        if (!skipped(list, i))
+            list->cell_start[cell_of(list, position, i) + 1]++;
     for (size_t c = 0; c < cells; c++)
         list->cell_start[c + 1] += list->cell_start[c];
     memcpy(list->cell_cursor, list->cell_start, cells * sizeof *list->cell_cursor);
     for (size_t i = 0; i < list->count; i++)
-        list->cell_particle[list->cell_cursor[cell_of(list, position, i)]++] = (uint32_t)i;
+        if (!skipped(list, i))
+            list->cell_particle[list->cell_cursor[cell_of(list, position, i)]++] = (uint32_t)i;
 }
 
 /* Entries taken from one cell at a time before merging (a cell's pairs are
@@ -155,6 +163,11 @@ static size_t merge_into(uint32_t *out, size_t m, const uint32_t *in, size_t r)
 static size_t gather(const neighbour_list *list, const double *position, size_t i,
                      uint32_t *out, uint32_t *short_out, size_t *near)
 {
+    if (skipped(list, i)) { /* an empty row */
+        if (near)
+            *near = 0;
+        return 0;
+    }
     double cut2 = list->cutoff * list->cutoff;
     const int with_short = list->short_start != NULL;
     const double short_cut = list->short_radius + list->skin;
@@ -255,6 +268,8 @@ static int fail_growth(neighbour_list *list)
 /* Particles in the 3x3 cells around particle i: a bound on its row. */
 static size_t candidates(const neighbour_list *list, const double *position, size_t i)
 {
+    if (skipped(list, i))
+        return 0;
     size_t c = cell_of(list, position, i), columns = list->cells[0];
     size_t cx = c % columns, cy = c / columns;
     size_t x0 = cx > 0 ? cx - 1 : 0, x1 = cx + 1 < columns ? cx + 1 : cx;
@@ -343,6 +358,12 @@ int neighbours_update(neighbour_list *list, const double *position)
     list->builds++;
     list->stale = 0;
     return MPS2P_OK;
+}
+
+int neighbours_rebuild(neighbour_list *list, const double *position)
+{
+    list->stale = 1; /* forces the build */
+    return neighbours_update(list, position);
 }
 
 int neighbours_restore(neighbour_list *list, const double *built_at, unsigned long builds)

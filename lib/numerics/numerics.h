@@ -99,6 +99,12 @@ typedef struct neighbour_list {
     unsigned long builds;
     int stale;           /* a rebuild failed half-way: rebuild at the next update */
     double threads;      /* parameter threads (team_size) */
+    /* Particles left out of every pair (an empty row, in no other row):
+     * those i with skip[i] == skip_value; skip NULL = none. Read at each
+     * build: the solver points it at its kinds, so that fluid out of the run
+     * is nobody's neighbour, and rebuilds when one leaves. */
+    const int *skip;
+    int skip_value;
 } neighbour_list;
 
 /* short_radius: the radius the short list must serve (re_density l0); 0, or
@@ -109,6 +115,9 @@ void neighbours_free(neighbour_list *list);
 /* Rebuilds both lists when needed; returns MPS2P_OK or MPS2P_ERR_NOMEM (both
  * lists then empty and stale, rebuilt at the next update). */
 int neighbours_update(neighbour_list *list, const double *position);
+/* Builds the lists now, whether needed or not (after a change of the
+ * particles left out); the same return and failure as neighbours_update. */
+int neighbours_rebuild(neighbour_list *list, const double *position);
 /* Builds the list from the positions of an earlier build (built_at) and sets
  * the build count, so that a restored solver reuses the same pairs and makes
  * the same rebuild decisions as the one it was saved from. built_at must not
