@@ -90,11 +90,17 @@ MPS2P_API const char *mps2p_last_error(void);
 typedef struct mps2p_scene mps2p_scene;
 
 /* Particle kinds. Walls carry a pressure; dummy walls only fill the wall's
- * thickness so that wall particles see a full neighbourhood. */
+ * thickness so that wall particles see a full neighbourhood. MPS2P_KIND_OUT
+ * is a fluid particle that left the domain during a run (parameter
+ * out_limit) and is out of the run from then on, like DualSPHysics's
+ * excluded particles: frozen where it left, velocity and pressure 0 (and
+ * number density 0), no neighbour of anything, its fluid id kept. Only a
+ * solver's particles become OUT: scenes refuse the kind. */
 enum {
     MPS2P_KIND_FLUID = 0,
     MPS2P_KIND_WALL = 1,
-    MPS2P_KIND_DUMMY = 2
+    MPS2P_KIND_DUMMY = 2,
+    MPS2P_KIND_OUT = 3
 };
 
 /* A new, empty scene with particle spacing l0 > 0 (metres). */
@@ -136,7 +142,8 @@ MPS2P_API int mps2p_scene_add_tank(mps2p_scene *scene, double x0, double y0,
                                    double x1, double y1, int open_top);
 
 /* Adds count particles from caller arrays: positions (2*count), velocities
- * (2*count, or NULL for rest), kinds (count, MPS2P_KIND_*), fluid_ids (count;
+ * (2*count, or NULL for rest), kinds (count, MPS2P_KIND_FLUID, _WALL or
+ * _DUMMY; MPS2P_KIND_OUT is refused), fluid_ids (count;
  * read only for fluid particles; may be NULL if no particle is fluid). count
  * is checked against the particle cap and memory_limit before the arrays are
  * read. */
@@ -178,6 +185,12 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *                                 L the largest side of the initial particles' box
  *   displacement_limit      1.0   a particle moving farther in one step
  *                                 means diverged, in l0; 0 = no check
+ *   out_limit               0.01  share of the fluid particles (of those at
+ *                                 the start) that may leave the domain: each
+ *                                 becomes MPS2P_KIND_OUT and the run goes on;
+ *                                 one more means diverged; 0 = any fluid
+ *                                 particle leaving the domain means diverged.
+ *                                 Walls and dummies leaving it always do
  *   beta_count              0.85  free_surface "neighbour_count": surface below
  *                                 beta_count N0 neighbours within re_density
  *   smagorinsky_constant    0.1   Cs of effect.turbulence: nu_t = (Cs l0)^2 |S|
@@ -296,8 +309,10 @@ MPS2P_API int mps2p_scene_set_option(mps2p_scene *scene, const char *key,
 MPS2P_API int mps2p_scene_get_option(const mps2p_scene *scene, const char *key,
                                      const char **value);
 
-/* Particles outside this box count as diverged. Default: the box around the
- * initial particles, widened by its own width and height on every side. */
+/* Particles outside this box count as diverged, except fluid particles up
+ * to parameter out_limit's share: those become MPS2P_KIND_OUT. Default: the
+ * box around the initial particles, widened by its own width and height on
+ * every side. */
 MPS2P_API int mps2p_scene_set_domain(mps2p_scene *scene, double xmin, double ymin,
                                      double xmax, double ymax);
 
@@ -380,15 +395,20 @@ MPS2P_API int mps2p_solver_get_positions(const mps2p_solver *solver, double *out
 MPS2P_API int mps2p_solver_get_velocities(const mps2p_solver *solver, double *out, size_t length);
 MPS2P_API int mps2p_solver_get_pressure(const mps2p_solver *solver, double *out, size_t length);
 MPS2P_API int mps2p_solver_get_number_density(const mps2p_solver *solver, double *out, size_t length);
+/* MPS2P_KIND_* per particle. Kinds change during a run: a fluid particle
+ * that leaves the domain turns from MPS2P_KIND_FLUID to MPS2P_KIND_OUT
+ * (parameter out_limit), at the end of the step that took it out. */
 MPS2P_API int mps2p_solver_get_kinds(const mps2p_solver *solver, int *out, size_t length);
-/* fluid id per particle; -1 for wall and dummy particles */
+/* fluid id per particle (MPS2P_KIND_OUT particles keep theirs); -1 for wall
+ * and dummy particles */
 MPS2P_API int mps2p_solver_get_fluid_ids(const mps2p_solver *solver, int *out, size_t length);
 
 MPS2P_API int mps2p_solver_get_time(const mps2p_solver *solver, double *time);
 MPS2P_API int mps2p_solver_get_step_count(const mps2p_solver *solver, uint64_t *steps);
 MPS2P_API int mps2p_solver_get_last_dt(const mps2p_solver *solver, double *dt);
 
-/* Statistics by name, of the current state or the last step:
+/* Statistics by name, of the current state or the last step ("fluid": the
+ * fluid particles in the run, not those of MPS2P_KIND_OUT):
  *   max_speed          largest fluid speed (m/s)
  *   kinetic_energy     sum of m u^2 / 2 over fluid, m = rho l0^2 (J per m depth)
  *   potential_energy   sum of -m g.r over fluid (J per m depth)
@@ -412,6 +432,8 @@ MPS2P_API int mps2p_solver_get_last_dt(const mps2p_solver *solver, double *dt);
  *                      the solver has not diverged or the particle is not known
  *   closest_pair       smallest distance from a fluid particle to any other
  *                      particle (l0; computed when asked, from the neighbour list)
+ *   fluid_out          fluid particles that left the domain and are out of the
+ *                      run (MPS2P_KIND_OUT; parameter out_limit)
  * With two phases (0 when effect two_phase is off): gas_triggered (light
  *   particles with delta_al = 1 in the last step), gas_enclosed (heavy
  *   particles in all 8 sectors), gas_joined (reacting), gas_pressure_max (Pa,
@@ -498,7 +520,8 @@ MPS2P_API int mps2p_solver_save_checkpoint(const mps2p_solver *solver, const cha
  * the file), a newer format version, datasets of the wrong shape or type,
  * contents mps2p_solver_create would not give (kinds, fluid ids, parameters
  * out of range, a negative time or number density, particles outside the
- * domain, n0 or lambda that do not follow from l0, densities that are not
+ * domain other than MPS2P_KIND_OUT ones, OUT particles that move or carry a
+ * pressure, a fluid_out count that is not theirs, n0 or lambda that do not follow from l0, densities that are not
  * their fluid's; the message names the field), a two-phase state missing or
  * out of range where the fluids and parameters make two phases, or present
  * where they make one. Files of format 3 and older (no checksum) load
@@ -655,13 +678,15 @@ MPS2P_API int mps2p_solver_advance_window(mps2p_solver *solver, double end_time,
  * checkpoint does: positions, velocities, pressure (the pressure solve's
  * warm start), number density, free-surface flags, the neighbour list's
  * build positions and count, time, step count, last dt, the diverged flag,
+ * the kinds and the count of fluid particles out of the run (MPS2P_KIND_OUT),
  * parameters (gravity included), every body's motion and targets, the
  * accelerations, and with two phases what a checkpoint holds of them.
  * Restoring it gives bitwise the run the solver would have had from that
  * point (inputs included: set new ones after restoring), and
- * clears a divergence that happened since. A state fits only a solver with
- * the same particles, kinds and bodies (its own, or one created from the same
- * scene): others, and a state of a single-phase solver into a two-phase one
+ * clears a divergence that happened since (and puts back in the run the fluid
+ * particles that left the domain since). A state fits only a solver with the
+ * same particles, kinds (MPS2P_KIND_FLUID and _OUT alike) and bodies (its
+ * own, or one created from the same scene): others, and a state of a single-phase solver into a two-phase one
  * or the other way round, are refused with MPS2P_ERR_INVALID and nothing
  * changes. It takes about 9 doubles per particle (4 doubles and 2 bytes more
  * with two phases); one state can be restored many times. */

@@ -161,6 +161,7 @@ typedef struct params {
     double cg_max_iterations;
     double pressure_limit;
     double displacement_limit;
+    double out_limit;          /* share of the fluid that may leave the domain (divergence.c) */
     double neighbour_skin;
     double light_fraction;     /* a fluid is light below this fraction of the heaviest */
     double sector_scan_walls;  /* 1 = walls count as heavy in the 8-sector scan */
@@ -216,7 +217,9 @@ typedef struct fluid {
     double viscosity;
 } fluid;
 
-enum { SOLID_FROM_BOX = 3 }; /* scene-only kind, classified at solver creation */
+/* Scene-only kind, classified at solver creation; apart from every
+ * MPS2P_KIND_* (3 is MPS2P_KIND_OUT, a solver's only). */
+enum { SOLID_FROM_BOX = -2 };
 
 struct mps2p_scene {
     double l0;
@@ -246,6 +249,19 @@ int coordinates_check(double l0, double x, double y, const char *what, char *han
 int scene_check_room(mps2p_scene *scene, size_t extra);
 
 /* ---- the solver ---- */
+
+/* A fluid particle, in the run or out of it (MPS2P_KIND_OUT: it left the
+ * domain, keeping its fluid id). */
+static inline int kind_is_fluid(int kind)
+{
+    return kind == MPS2P_KIND_FLUID || kind == MPS2P_KIND_OUT;
+}
+/* Fluid in the run and walls: the particles that carry a pressure. Dummies
+ * only fill the number density; OUT particles are in nothing. */
+static inline int kind_carries_pressure(int kind)
+{
+    return kind == MPS2P_KIND_FLUID || kind == MPS2P_KIND_WALL;
+}
 
 #define STAGE_COUNT 26   /* rows of the stage table (solver/plan.c) */
 #define PLAN_CAPACITY 32 /* the stages of a step, with the neighbour list's updates */
@@ -313,6 +329,7 @@ struct mps2p_solver {
     double ppe_residual;
     int diverged;
     long diverged_particle; /* the particle a divergence was found at; -1 none */
+    size_t fluid_out;       /* particles of kind MPS2P_KIND_OUT (stages/divergence.c) */
     /* Inside mps2p_solver_advance_to, whose progress callback may call back
      * into this solver: stepping or restoring it is refused there, and
      * mps2p_solver_destroy only sets destroy_requested (solver/solver.c). */

@@ -36,6 +36,9 @@ static const field solver_rows[] = {
           FIELD_SAVED | FIELD_CHECKPOINTED),
     FIELD("ppe_iterations_total", ppe_iterations_total, FIELD_U64, 1,
           FIELD_SAVED | FIELD_CHECKPOINTED | FIELD_OPTIONAL),
+    /* absent (0) in files from before kind MPS2P_KIND_OUT, which have none */
+    FIELD("fluid_out", fluid_out, FIELD_SIZE, 1,
+          FIELD_SAVED | FIELD_CHECKPOINTED | FIELD_OPTIONAL),
     /* gravity changes between windows; a checkpoint has group "parameters" */
     FIELD("params", params, FIELD_PARAMS, 1, FIELD_SAVED),
 
@@ -49,7 +52,10 @@ static const field solver_rows[] = {
           PARTICLES | FIELD_SAVED | FIELD_CHECKPOINTED),
     FIELD("density", density, FIELD_DOUBLE, 1, PARTICLES | FIELD_CHECKPOINTED),
     FIELD("viscosity", viscosity, FIELD_DOUBLE, 1, PARTICLES | FIELD_CHECKPOINTED),
-    FIELD("kind", kind, FIELD_INT, 1, PARTICLES | FIELD_MATCHED | FIELD_CHECKPOINTED),
+    /* fluid particles turn MPS2P_KIND_OUT in a run: saved, and matched by
+     * solver/state.c with FLUID and OUT alike; a step marks them only once it
+     * has passed every check, so never rolled back */
+    FIELD("kind", kind, FIELD_INT, 1, PARTICLES | FIELD_SAVED | FIELD_CHECKPOINTED),
     FIELD("fluid_id", fluid_id, FIELD_INT, 1, PARTICLES | FIELD_CHECKPOINTED),
     FIELD("on_surface", on_surface, FIELD_FLAG, 1,
           PARTICLES | FIELD_SAVED | FIELD_CHECKPOINTED),

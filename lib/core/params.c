@@ -55,6 +55,12 @@ static const param_entry table[] = {
      "|p| above it means diverged (Pa); 0 = 1000 rho_max max(|g| L, 1 m^2/s^2)"},
     {"displacement_limit", FIELD(displacement_limit), 1.0, 0.0, BIG,
      "a particle moving farther in one step means diverged, in l0; 0 = no check"},
+    /* spray thrown over a wall must not end a run (DualSPHysics's excluded
+     * particles); walls and dummies leaving the domain always diverge */
+    {"out_limit", FIELD(out_limit), 0.01, 0.0, 1.0,
+     "share of the fluid particles (of those at the start) that may leave the domain and "
+     "go out of the run (kind MPS2P_KIND_OUT) before the run counts as diverged; 0 = any "
+     "fluid particle leaving it means diverged"},
     {"beta_count", FIELD(beta_count), 0.85, 0.0, 1.0,
      "free_surface \"neighbour_count\": surface below beta_count N0 neighbours"},
     {"smagorinsky_constant", FIELD(smagorinsky_constant), 0.1, 0.0, 1.0,

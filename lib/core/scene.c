@@ -350,8 +350,11 @@ int mps2p_scene_add_particles(mps2p_scene *scene, size_t count, const double *po
         if (kinds[i] != MPS2P_KIND_FLUID && kinds[i] != MPS2P_KIND_WALL &&
             kinds[i] != MPS2P_KIND_DUMMY)
             return fail(scene->error, MPS2P_ERR_INVALID,
-                        "particle %zu: kind %d is not MPS2P_KIND_FLUID, _WALL or _DUMMY",
-                        i, kinds[i]);
+                        "particle %zu: kind %d is not MPS2P_KIND_FLUID, _WALL or _DUMMY%s",
+                        i, kinds[i],
+                        kinds[i] == MPS2P_KIND_OUT ? " (MPS2P_KIND_OUT is a solver's fluid "
+                                                     "particle that left the domain, never a "
+                                                     "scene's)" : "");
         if (kinds[i] == MPS2P_KIND_FLUID) {
             if (!fluid_ids)
                 return fail(scene->error, MPS2P_ERR_NULL,

@@ -103,7 +103,9 @@ int mps2p_scene_add_body_particles(mps2p_scene *scene, const char *name, size_t 
         if (kinds[i] != MPS2P_KIND_WALL && kinds[i] != MPS2P_KIND_DUMMY)
             return fail(scene->error, MPS2P_ERR_INVALID,
                         "particle %zu: a body holds MPS2P_KIND_WALL and _DUMMY particles, "
-                        "got kind %d", i, kinds[i]);
+                        "got kind %d%s", i, kinds[i],
+                        kinds[i] == MPS2P_KIND_OUT ? " (MPS2P_KIND_OUT: a solver's fluid that "
+                                                     "left the domain, never a scene's)" : "");
     int id = find_body(scene, name);
     size_t before = scene->count;
     status = mps2p_scene_add_particles(scene, count, positions, NULL, kinds, NULL);
@@ -188,7 +190,7 @@ int coupling_build(mps2p_solver *s, int count, char (*names)[FLUID_NAME_SIZE],
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory for %d bodies", count);
     }
     for (size_t i = 0; i < s->count; i++) {
-        int id = s->kind[i] == MPS2P_KIND_FLUID ? -1 : body_of ? body_of[i] : 0;
+        int id = kind_is_fluid(s->kind[i]) ? -1 : body_of ? body_of[i] : 0;
         c->body_of[i] = id;
         if (id >= 0)
             c->bodies[id].particles++;

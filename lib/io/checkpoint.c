@@ -418,16 +418,18 @@ static int check_fluids(h5_context *ctx, const mps2p_solver *s)
 
 /* Values the stages index with or divide by must be in range, and every
  * particle as mps2p_solver_create would have it: inside the domain, with
- * its fluid's density and viscosity (walls: the heaviest fluid's, and 0). */
+ * its fluid's density and viscosity (walls: the heaviest fluid's, and 0);
+ * or as a run leaves fluid that went out of it (MPS2P_KIND_OUT, counted by
+ * fluid_out): outside the domain, at rest, no pressure, its fluid id kept. */
 static int check_particles(h5_context *ctx, const mps2p_solver *s)
 {
     double heaviest = 0.0;
-    size_t fluid_particles = 0;
+    size_t fluid_particles = 0, out = 0;
     for (int f = 0; f < s->fluid_count; f++)
         heaviest = fmax(heaviest, s->fluids[f].density);
     for (size_t i = 0; i < s->count; i++) {
         int kind = s->kind[i], id = s->fluid_id[i];
-        int fluid = kind == MPS2P_KIND_FLUID;
+        int fluid = kind_is_fluid(kind), is_out = kind == MPS2P_KIND_OUT;
         int ok = (fluid || kind == MPS2P_KIND_WALL || kind == MPS2P_KIND_DUMMY) &&
                  (fluid ? id >= 0 && id < s->fluid_count : id == -1) &&
                  isfinite(s->state.position[2 * i]) && isfinite(s->state.position[2 * i + 1]) &&
@@ -442,6 +444,7 @@ static int check_particles(h5_context *ctx, const mps2p_solver *s)
             return -1;
         }
         fluid_particles += fluid;
+        out += is_out;
         const double x = s->state.position[2 * i], y = s->state.position[2 * i + 1];
         const double *d = s->domain;
         if (fabs(x) > COORDINATE_LIMIT_L0 * s->l0 || fabs(y) > COORDINATE_LIMIT_L0 * s->l0) {
@@ -449,9 +452,19 @@ static int check_particles(h5_context *ctx, const mps2p_solver *s)
                          "scene refuses such coordinates)", i, x, y, COORDINATE_LIMIT_L0);
             return -1;
         }
-        if (x < d[0] || x > d[2] || y < d[1] || y > d[3]) {
-            h5_note_text(ctx, "particle %zu at (%g, %g) is outside attribute domain [%g, %g] x "
-                         "[%g, %g]", i, x, y, d[0], d[2], d[1], d[3]);
+        int outside = x < d[0] || x > d[2] || y < d[1] || y > d[3];
+        if (outside != is_out) {
+            h5_note_text(ctx, "particle %zu (kind %d) at (%g, %g) is %s attribute domain [%g, "
+                         "%g] x [%g, %g]", i, kind, x, y, outside ? "outside" : "out of the "
+                         "run (kind MPS2P_KIND_OUT) but inside", d[0], d[2], d[1], d[3]);
+            return -1;
+        }
+        if (is_out && (s->state.velocity[2 * i] != 0.0 || s->state.velocity[2 * i + 1] != 0.0 ||
+                       s->state.pressure[i] != 0.0)) {
+            h5_note_text(ctx, "particle %zu is out of the run (kind MPS2P_KIND_OUT) but has "
+                         "velocity (%g, %g) and pressure %g, not 0", i,
+                         s->state.velocity[2 * i], s->state.velocity[2 * i + 1],
+                         s->state.pressure[i]);
             return -1;
         }
         const double density = fluid ? s->fluids[id].density : heaviest;
@@ -470,6 +483,11 @@ static int check_particles(h5_context *ctx, const mps2p_solver *s)
     }
     if (fluid_particles == 0) {
         h5_note_text(ctx, "it holds no fluid particle");
+        return -1;
+    }
+    if (s->fluid_out != out) {
+        h5_note_text(ctx, "attribute fluid_out is %zu, but %zu particles are of kind "
+                     "MPS2P_KIND_OUT", s->fluid_out, out);
         return -1;
     }
     return 0;
@@ -560,7 +578,7 @@ static int read_bodies(h5_context *ctx, hid_t file, mps2p_solver *s)
         targets |= status == 0 && has_target[b];
     }
     for (size_t i = 0; status == 0 && i < n; i++) {
-        int fluid = s->kind[i] == MPS2P_KIND_FLUID, id = body_id[i];
+        int fluid = kind_is_fluid(s->kind[i]), id = body_id[i];
         if (fluid ? id != -1 : id < 0 || (size_t)id >= bodies) {
             h5_note_text(ctx, "particle %zu of kind %d has body id %d (%zu bodies)", i,
                          s->kind[i], id, bodies);

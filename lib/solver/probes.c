@@ -20,7 +20,7 @@ typedef struct probe_grid {
     double origin[2], cell;
     size_t cells[2];
     size_t *start;    /* cells + 1 */
-    size_t *particle; /* non-dummy particles, by cell */
+    size_t *particle; /* fluid in the run and walls, by cell */
 } probe_grid;
 
 static size_t clamp_cell(double x, double origin, double size, size_t cells)
@@ -37,7 +37,7 @@ static int grid_build(probe_grid *g, const mps2p_solver *s, double re)
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     size_t m = 0;
     for (size_t i = 0; i < s->count; i++) {
-        if (s->kind[i] == MPS2P_KIND_DUMMY)
+        if (!kind_carries_pressure(s->kind[i]))
             continue;
         m++;
         for (int d = 0; d < 2; d++) {
@@ -68,7 +68,7 @@ static int grid_build(probe_grid *g, const mps2p_solver *s, double re)
     }
     /* counting sort, particles in index order inside each cell */
     for (size_t i = 0; i < s->count; i++) {
-        if (s->kind[i] == MPS2P_KIND_DUMMY)
+        if (!kind_carries_pressure(s->kind[i]))
             continue;
         size_t cx = clamp_cell(r[2 * i], g->origin[0], cell, g->cells[0]);
         size_t cy = clamp_cell(r[2 * i + 1], g->origin[1], cell, g->cells[1]);
@@ -79,7 +79,7 @@ static int grid_build(probe_grid *g, const mps2p_solver *s, double re)
     for (size_t c = 0; c < cells; c++)
         cursor[c] = g->start[c];
     for (size_t i = 0; i < s->count; i++) {
-        if (s->kind[i] == MPS2P_KIND_DUMMY)
+        if (!kind_carries_pressure(s->kind[i]))
             continue;
         size_t cx = clamp_cell(r[2 * i], g->origin[0], cell, g->cells[0]);
         size_t cy = clamp_cell(r[2 * i + 1], g->origin[1], cell, g->cells[1]);

@@ -215,6 +215,9 @@ int solver_start(mps2p_solver *s)
                         s->params.re_density * s->l0, s->domain) != MPS2P_OK)
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory for the neighbour list");
     s->neighbours.threads = s->params.threads;
+    /* fluid out of the run (stages/divergence.c) is nobody's neighbour */
+    s->neighbours.skip = s->kind;
+    s->neighbours.skip_value = MPS2P_KIND_OUT;
     char message[ERROR_MESSAGE_SIZE];
     int status = linear_solver_create(s->params.pressure_solver, s->params.cg_preconditioner,
                                       s->params.threads, &s->linear, message, sizeof message);

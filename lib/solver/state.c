@@ -112,12 +112,23 @@ int mps2p_solver_save_state(const mps2p_solver *s, mps2p_state **state)
     return MPS2P_OK;
 }
 
+/* The same kinds, a fluid particle in the run and one out of it alike:
+ * fluid particles turn MPS2P_KIND_OUT during a run (stages/divergence.c). */
+static int same_kinds(const int *a, const int *b, size_t count)
+{
+    for (size_t i = 0; i < count; i++)
+        if (a[i] != b[i] && !(kind_is_fluid(a[i]) && kind_is_fluid(b[i])))
+            return 0;
+    return 1;
+}
+
 /* The same particles, kinds and bodies, and two phases (with the same light
  * particles) or not: a state fits only its own solver (or one built from
  * the same scene). */
 static int same_shape(const mps2p_solver *s, const mps2p_state *st)
 {
     return fields_equal(&solver_fields, st->solver, s, s->count, FIELD_MATCHED) &&
+           same_kinds(st->solver->kind, s->kind, s->count) &&
            st->body_count == s->coupling->body_count &&
            memcmp(st->body_of, s->coupling->body_of, s->count * sizeof *st->body_of) == 0 &&
            !st->phases == !s->phases &&
@@ -202,6 +213,8 @@ int mps2p_solver_restore_state(mps2p_solver *s, const mps2p_state *st)
     free(fresh);
 
     const size_t n = s->count;
+    /* particles out of the run are in no pair: other kinds, other lists */
+    const int kinds_changed = memcmp(s->kind, st->solver->kind, n * sizeof *s->kind) != 0;
     fields_copy(&solver_fields, s, st->solver, n, FIELD_SAVED);
     if (s->phases)
         phases_put_carried(s, st->phases, FIELD_SAVED);
@@ -210,7 +223,7 @@ int mps2p_solver_restore_state(mps2p_solver *s, const mps2p_state *st)
      * the list still holds them */
     neighbour_list *nl = &s->neighbours;
     int status = MPS2P_OK;
-    if (nl->stale || nl->builds != st->builds ||
+    if (nl->stale || nl->builds != st->builds || kinds_changed ||
         memcmp(nl->built_at, st->built_at, 2 * n * sizeof(double)) != 0)
         status = neighbours_restore(nl, st->built_at, st->builds);
     nl->stale = nl->stale || st->stale;

@@ -10,7 +10,9 @@
 #include <math.h>
 #include <string.h>
 
-/* Over fluid particles; mass per unit depth is rho l0^2. */
+/* Over the fluid particles in the run (not those out of it, MPS2P_KIND_OUT:
+ * a droplet that left the domain takes its energy out of the sums); mass per
+ * unit depth is rho l0^2. */
 static double max_speed(const mps2p_solver *s)
 {
     double result = 0.0;
@@ -52,7 +54,7 @@ static double pressure_extreme(const mps2p_solver *s, int want_max)
 {
     double result = want_max ? -INFINITY : INFINITY;
     for (size_t i = 0; i < s->count; i++) {
-        if (s->kind[i] == MPS2P_KIND_DUMMY)
+        if (!kind_carries_pressure(s->kind[i]))
             continue;
         double p = s->state.pressure[i];
         result = want_max ? fmax(result, p) : fmin(result, p);
@@ -80,6 +82,7 @@ static double ppe_analyses(const mps2p_solver *s)
 }
 static double eddy_viscosity_max(const mps2p_solver *s) { return s->eddy_viscosity_max; }
 static double memory_bytes(const mps2p_solver *s) { return (double)solver_memory_bytes(s); }
+static double fluid_out(const mps2p_solver *s) { return (double)s->fluid_out; }
 static double diverged_particle(const mps2p_solver *s)
 {
     return s->diverged ? (double)s->diverged_particle : -1.0;
@@ -131,6 +134,8 @@ static const stat_entry solver_stats[] = {
     STAT(closest_pair, 0, "smallest distance from a fluid particle to any other particle (l0)"),
     STAT(diverged_particle, 1,
          "the particle a divergence was found at; -1 when none or not known"),
+    STAT(fluid_out, 1, "fluid particles that left the domain and are out of the run "
+                       "(kind MPS2P_KIND_OUT; parameter out_limit)"),
 };
 #define SOLVER_STATS (sizeof solver_stats / sizeof solver_stats[0])
 

@@ -52,7 +52,7 @@ int free_surface_detect(mps2p_solver *s, double dt)
     size_t surface = 0; /* a count: the same for any split among threads */
     PARALLEL_FOR(s->params.threads, schedule(static) reduction(+ : surface),
     for (size_t i = 0; i < s->count; i++) {
-        int is_surface = s->kind[i] != MPS2P_KIND_DUMMY &&
+        int is_surface = kind_carries_pressure(s->kind[i]) &&
                          (s->number_density[i] < threshold ||
                           (by_count && (double)s->neighbour_count[i] < fewest));
         s->on_surface[i] = (unsigned char)is_surface;

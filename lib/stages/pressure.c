@@ -1,7 +1,8 @@
 /* Pressure Poisson equation: assemble the sparse system and solve it.
  *   -<lap p>_i + (rho_i kappa / dt^2) p_i = source_i (see source_term)
  * over fluid and wall particles that are not free surface. Free-surface
- * particles are Dirichlet (p = 0), dummy walls carry no pressure. The
+ * particles are Dirichlet (p = 0), dummy walls and particles out of the run
+ * (MPS2P_KIND_OUT) carry no pressure. The
  * compressibility term kappa keeps the matrix positive definite even for a
  * fluid cluster that touches no free surface. */
 #include "numerics/numerics.h"
@@ -39,10 +40,11 @@ static int grow_matrix(sparse_matrix *m, int rows, size_t entries)
     return MPS2P_OK;
 }
 
-/* Participants: the system's mask when it has one, else every non-dummy. */
+/* Participants: the system's mask when it has one, else the fluid in the
+ * run and the walls. */
 static int takes_part(const mps2p_solver *s, const ppe_system *sys, size_t j)
 {
-    return sys->part ? sys->part[j] != 0 : s->kind[j] != MPS2P_KIND_DUMMY;
+    return sys->part ? sys->part[j] != 0 : kind_carries_pressure(s->kind[j]);
 }
 
 /* The PPE source, rho/dt^2 times a number-density deviation over n0:

@@ -94,8 +94,9 @@ int diverged_at(mps2p_solver *s, size_t i, int status);  /* divergence.c */
 /* ---- the pressure Poisson system (pressure.c) ---- */
 
 /* One PPE over a subset of the particles (pressure.c), for the two phases'
- * solves: part marks the participants (NULL = every non-dummy particle),
- * surface the Dirichlet ones; n_star, n_start and density enter the source
+ * solves: part marks the participants (NULL = the fluid in the run and the
+ * walls; masks never hold dummies or particles out of the run), surface
+ * the Dirichlet ones; n_star, n_start and density enter the source
  * (and density the diagonal); pressure holds the warm start on entry and
  * every particle's result on exit (0 for non-participants). */
 typedef struct ppe_system {

@@ -14,7 +14,7 @@ int phases_divergence_check(mps2p_solver *s, double dt)
     const double jump = s->params.displacement_limit * s->l0;
     const double *before = s->before_step->state.position;
     for (size_t i = 0; i < s->count; i++) {
-        if (!tp->light[i])
+        if (!light_in_run(s, i))
             continue;
         double moved = hypot(s->state.position[2 * i] - before[2 * i],
                              s->state.position[2 * i + 1] - before[2 * i + 1]);

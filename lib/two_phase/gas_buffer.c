@@ -24,7 +24,7 @@ void gas_buffer_reference(mps2p_solver *s)
     const double *r = s->state.position;
     double top = -INFINITY;
     for (size_t i = 0; i < s->count; i++)
-        if (tp->light[i])
+        if (light_in_run(s, i))
             top = fmax(top, r[2 * i] * up[0] + r[2 * i + 1] * up[1]);
     if (isfinite(top)) {
         tp->gas_top = top;
@@ -44,7 +44,7 @@ int gas_buffer_apply(mps2p_solver *s, double dt)
     double *r = s->state.position, *u = s->state.velocity;
     size_t damped = 0;
     for (size_t i = 0; i < s->count; i++) {
-        if (!tp->light[i] || s->kind[i] != MPS2P_KIND_FLUID || moves_with_liquid(s, i))
+        if (!light_in_run(s, i) || moves_with_liquid(s, i))
             continue;
         double into = r[2 * i] * up[0] + r[2 * i + 1] * up[1] - bottom;
         if (!(into > 0.0))

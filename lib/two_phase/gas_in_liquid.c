@@ -62,7 +62,7 @@ size_t gas_in_liquid_count(const mps2p_solver *s)
     gravity_up(s, up);
     size_t count = 0;
     for (size_t i = 0; i < s->count; i++)
-        count += tp->light[i] &&
+        count += light_in_run(s, i) &&
                  (more_liquid_than_light_neighbours(s, i) || submerged(s, i, up));
     return count;
 }

@@ -64,7 +64,7 @@ static int mark_open_gas(mps2p_solver *s, double *layer_bottom, double up[2])
     long *queue = tp->bubble_queue; /* free after interface_join */
     size_t head = 0, tail = 0;
     for (size_t i = 0; i < s->count; i++)
-        if (tp->light[i] && !moves_with_liquid(s, i) &&
+        if (light_in_run(s, i) && !moves_with_liquid(s, i) &&
             r[2 * i] * up[0] + r[2 * i + 1] * up[1] >= bottom) {
             tp->gas_open[i] = 1;
             queue[tail++] = (long)i;
@@ -123,7 +123,7 @@ static int gas_free_surface(mps2p_solver *s, const double *n_gas)
     int voids = tp->improved && mark_open_gas(s, &bottom, up);
     const double *r = s->state.position;
     for (size_t i = 0; i < s->count; i++) {
-        tp->gas_part[i] = s->kind[i] != MPS2P_KIND_DUMMY;
+        tp->gas_part[i] = kind_carries_pressure(s->kind[i]);
         int surface = tp->gas_part[i] && n_gas[i] < threshold;
         if (surface && voids && tp->gas_open[i] &&
             n_gas[i] >= VOID_EDGE_MIN * s->n0_density &&
@@ -170,7 +170,7 @@ void phases_pressure_combine(mps2p_solver *s)
     for (size_t i = 0; i < s->count; i++) {
         int by_gas = tp->light[i] && !moves_with_liquid(s, i);
         s->state.pressure[i] = by_gas ? tp->gas_pressure[i] : tp->heavy_pressure[i];
-        if (tp->light[i] && !tp->joined[i])
+        if (light_in_run(s, i) && !tp->joined[i])
             gas_max = fmax(gas_max, tp->gas_pressure[i]);
     }
     tp->gas_pressure_max = gas_max;

@@ -62,7 +62,7 @@ int interface_scan(mps2p_solver *s, double dt)
     PARALLEL_FOR(s->params.threads, schedule(static) reduction(+ : triggered, enclosed),
     for (size_t i = 0; i < s->count; i++) {
         tp->triggered[i] = tp->enclosed[i] = 0;
-        if (!tp->light[i])
+        if (!light_in_run(s, i))
             continue;
         /* per sector: [0] liquid only, [1] liquid and (with sector_scan_walls) walls */
         int occupied[2][8] = {{0}};
@@ -127,7 +127,7 @@ static size_t mark_bubbles(mps2p_solver *s)
     long *queue = tp->bubble_queue;
     size_t head = 0, tail = 0;
     for (size_t i = 0; i < s->count; i++) {
-        reached[i] = tp->light[i] && s->number_density[i] < threshold;
+        reached[i] = light_in_run(s, i) && s->number_density[i] < threshold;
         if (reached[i])
             queue[tail++] = (long)i;
     }
@@ -146,7 +146,7 @@ static size_t mark_bubbles(mps2p_solver *s)
     }
     size_t count = 0;
     for (size_t i = 0; i < s->count; i++) {
-        reached[i] = tp->light[i] && !reached[i];
+        reached[i] = light_in_run(s, i) && !reached[i];
         count += reached[i];
     }
     return count;
@@ -164,7 +164,7 @@ int interface_join(mps2p_solver *s, double dt)
     for (size_t i = 0; i < s->count; i++) {
         tp->was_joined[i] = tp->joined[i];
         tp->joined[i] = 0;
-        if (!tp->light[i])
+        if (!light_in_run(s, i))
             continue;
         /* Hold: a particle that joined stays joined while it is inside the
          * liquid, so that it does not flicker between the two solves. */
@@ -203,7 +203,7 @@ int interface_drift_apply(mps2p_solver *s, double dt)
     /* a drift bubble reads only liquid neighbours, whom this loop never moves */
     PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
-        if (!tp->light[i] || !(tp->joined[i] || tp->join_weight[i] > 0.0))
+        if (!light_in_run(s, i) || !(tp->joined[i] || tp->join_weight[i] > 0.0))
             continue;
         double sw = 0.0, mean[2] = {0.0, 0.0};
         for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {

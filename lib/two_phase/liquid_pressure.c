@@ -97,7 +97,7 @@ int liquid_pressure_solve(mps2p_solver *s, double dt)
     for (size_t i = 0; i < s->count; i++) {
         int joined = tp->light[i] && tp->join_weight[i] > 0.0;
         tp->heavy_mask[i] = !tp->light[i] || joined;
-        tp->heavy_part[i] = tp->heavy_mask[i] && s->kind[i] != MPS2P_KIND_DUMMY;
+        tp->heavy_part[i] = tp->heavy_mask[i] && kind_carries_pressure(s->kind[i]);
         /* A joined light particle stands for liquid volume in the liquid's
          * incompressibility: its source takes the liquid's density. */
         tp->heavy_rho[i] = tp->light[i] ? tp->heavy_density : s->density[i];

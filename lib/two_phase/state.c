@@ -206,7 +206,9 @@ int phases_init(mps2p_solver *s)
     tp->heavy_density = heaviest;
     tp->light_density = light_density;
     for (size_t i = 0; i < n; i++) {
-        tp->light[i] = s->kind[i] == MPS2P_KIND_FLUID &&
+        /* out of the run too: a checkpoint's solver has the same light flags
+         * as the one that wrote it, and a state the same as its solver's */
+        tp->light[i] = kind_is_fluid(s->kind[i]) &&
                        s->fluids[s->fluid_id[i]].density < threshold;
         tp->heavy_mask[i] = !tp->light[i];
         tp->gas_rho[i] = light_density; /* heavy particles: walls of gas density */

@@ -18,7 +18,8 @@ typedef struct two_phase {
     int improved;               /* effect interface_reaction is on */
     double heavy_density;       /* of the heaviest fluid */
     double light_density;       /* of the heaviest light fluid */
-    unsigned char *light;       /* per particle: fluid of a light phase */
+    unsigned char *light;       /* per particle: fluid of a light phase (in the run or
+                                 * out of it: see light_in_run) */
     unsigned char *triggered;   /* delta_al = 1 in the last step (eq. 15) */
     unsigned char *enclosed;    /* heavy particles in all 8 sectors */
     unsigned char *joined;      /* light particle taking part in the liquid solve */
@@ -92,6 +93,15 @@ int interface_drift_apply(mps2p_solver *s, double dt); /* interface_reaction.c *
 int phases_divergence_check(mps2p_solver *s, double dt); /* divergence.c */
 
 /* ---- within the part ---- */
+
+/* A light particle in the run: light stays set for one that left the
+ * domain (MPS2P_KIND_OUT, stages/divergence.c), which is in no loop of the
+ * gas, no count and no solve. As a neighbour no stage sees it (the
+ * neighbour list leaves it out). */
+static inline int light_in_run(const mps2p_solver *s, size_t i)
+{
+    return s->phases->light[i] && s->kind[i] == MPS2P_KIND_FLUID;
+}
 
 /* The share of a collision's impulse between phases (collision_rule.c). */
 double phases_collision_share(const mps2p_solver *s, size_t i, size_t j, int *whole);
