@@ -48,4 +48,28 @@ static inline mps2p_scene *water_air_column_scene(double l0, const char *model)
     return scene;
 }
 
+/* Spray leaving the domain: the dam break's column (0.1 m x 0.2 m, l0 =
+ * 0.01 m) in a 0.4 m x 0.3 m open tank, and three droplets above the tank
+ * floor thrown up at 2 m/s through the top of a domain that ends at 0.35 m:
+ * droplet a leaves first, b (sqrt 2 l0 from a, within its density radius)
+ * 1 l0 behind it, c alone 2 l0 behind a. *first gets a's index; b and c
+ * follow it. */
+static inline mps2p_scene *spray_scene(size_t *first)
+{
+    mps2p_scene *scene;
+    int water;
+    MUST(mps2p_scene_create(0.01, &scene));
+    MUST(mps2p_scene_add_fluid(scene, "water", 1000.0, 1e-6, &water));
+    MUST(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.0, 0.1, 0.2));
+    MUST(mps2p_scene_add_tank(scene, 0.0, 0.0, 0.4, 0.3, 1));
+    MUST(mps2p_scene_set_domain(scene, -0.1, -0.1, 0.5, 0.35));
+    MUST(mps2p_scene_particle_count(scene, first));
+    const double positions[6] = {0.255, 0.265, 0.265, 0.255, 0.155, 0.245};
+    const double velocities[6] = {0.0, 2.0, 0.0, 2.0, 0.0, 2.0};
+    const int kinds[3] = {MPS2P_KIND_FLUID, MPS2P_KIND_FLUID, MPS2P_KIND_FLUID};
+    const int ids[3] = {water, water, water};
+    MUST(mps2p_scene_add_particles(scene, 3, positions, velocities, kinds, ids));
+    return scene;
+}
+
 #endif
