@@ -100,7 +100,8 @@ int main(int argc, char **argv)
                 if (dx * dx + dy * dy < re * re && kind[j] == 0) { if (isw) cw++; else ca++; }
                 if (fabs(dx) < 0.75 * L0) {
                     if (isw && dy > 0) above = 1;
-                    if ((isw || kind[j] != 0) && dy < 0) below = 1;
+                    /* a wall or dummy, not fluid out of the run (kind 3) */
+                    if ((isw || kind[j] == 1 || kind[j] == 2) && dy < 0) below = 1;
                 }
             }
             int a_ = cw > ca; int b_ = above && below;

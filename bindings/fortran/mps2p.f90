@@ -20,7 +20,7 @@ module mps2p
        MPS2P_ERR_SOLVE = -7, MPS2P_ERR_DIVERGED = -8, MPS2P_ERR_IO = -9
   ! particle kinds
   integer(c_int), parameter, public :: MPS2P_KIND_FLUID = 0, MPS2P_KIND_WALL = 1, &
-       MPS2P_KIND_DUMMY = 2
+       MPS2P_KIND_DUMMY = 2, MPS2P_KIND_OUT = 3
 
   public :: mps2p_scene_create, mps2p_scene_destroy, mps2p_scene_add_fluid, &
        mps2p_scene_add_fluid_box, mps2p_scene_add_tank, mps2p_scene_set_param, &

@@ -20,7 +20,7 @@ from .errors import (BufferError_, DivergedError, Error, FileError, InvalidArgum
                      NullArgumentError, OutOfMemoryError, SceneFileError, SnapWarning,
                      SolveError, StateError, UnknownKeyError)
 from .results import Results, ResultsFile, open_results
-from .scene import KIND_DUMMY, KIND_FLUID, KIND_WALL, Scene, option_info, param_info
+from .scene import KIND_DUMMY, KIND_FLUID, KIND_OUT, KIND_WALL, Scene, option_info, param_info
 from .solver import COUNT_STATS, STAT_KEYS, Solver, State, stat_info
 
 __version__ = _version()
@@ -37,7 +37,7 @@ def __getattr__(name):
 
 __all__ = [
     "Scene", "Solver", "State", "param_info", "option_info", "stat_info", "STAT_KEYS",
-    "COUNT_STATS", "KIND_FLUID", "KIND_WALL", "KIND_DUMMY", "Results", "ResultsFile",
+    "COUNT_STATS", "KIND_FLUID", "KIND_WALL", "KIND_DUMMY", "KIND_OUT", "Results", "ResultsFile",
     "open_results", "example_names", "example_path", "Error", "NullArgumentError",
     "InvalidArgumentError", "UnknownKeyError", "OutOfMemoryError", "StateError",
     "BufferError_", "SolveError", "DivergedError", "FileError", "SceneFileError",

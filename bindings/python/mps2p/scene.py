@@ -11,6 +11,9 @@ from ._native import ffi, lib
 KIND_FLUID = lib.MPS2P_KIND_FLUID
 KIND_WALL = lib.MPS2P_KIND_WALL
 KIND_DUMMY = lib.MPS2P_KIND_DUMMY
+# a solver's fluid particle that left the domain (parameter out_limit): out
+# of the run, frozen where it left; never a scene's
+KIND_OUT = lib.MPS2P_KIND_OUT
 
 # The C library counts cells as floor(side / l0 + 1e-6) (lib/core/scene.c): a
 # side within this many l0 of a whole number is taken as that number.
@@ -253,4 +256,5 @@ def _box(*values):
     return [real(v, "coordinate") for v in values]
 
 
-__all__ = ["Scene", "param_info", "option_info", "KIND_FLUID", "KIND_WALL", "KIND_DUMMY"]
+__all__ = ["Scene", "param_info", "option_info", "KIND_FLUID", "KIND_WALL", "KIND_DUMMY",
+           "KIND_OUT"]

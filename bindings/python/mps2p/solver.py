@@ -185,11 +185,14 @@ class Solver(Owned):
         return self._field(lib.mps2p_solver_get_number_density, np.float64, 1)
 
     def kinds(self):
-        """(n,) int32 of KIND_FLUID, KIND_WALL, KIND_DUMMY, a copy."""
+        """(n,) int32 of KIND_FLUID, KIND_WALL, KIND_DUMMY and KIND_OUT (fluid
+        that left the domain, out of the run: kinds change from KIND_FLUID to
+        KIND_OUT during a run), a copy."""
         return self._field(lib.mps2p_solver_get_kinds, np.intc, 1)
 
     def fluid_ids(self):
-        """(n,) int32, the fluid id of each particle, -1 for walls; a copy."""
+        """(n,) int32, the fluid id of each particle (KIND_OUT ones keep
+        theirs), -1 for walls; a copy."""
         return self._field(lib.mps2p_solver_get_fluid_ids, np.intc, 1)
 
     def stat(self, key):

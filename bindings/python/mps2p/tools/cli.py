@@ -173,10 +173,17 @@ def _run(args):
     print("%s: %s at t = %.4g s after %d steps, %.3g particle-steps/s; results in %s"
           % (summary["name"], summary["status"], summary["time"], summary["steps"],
              summary["particle_steps_per_second"] or 0, out))
+    if summary["fluid_out"]:
+        print("%s: %s" % (summary["name"], _left_the_domain(summary["fluid_out"])))
     if summary["status"] != "ok":
         print("mps2p: %s" % summary["reason"], file=sys.stderr)
         return 1
     return 0
+
+
+def _left_the_domain(count):
+    return "%d fluid particle%s left the domain and %s out of the run (parameter out_limit)" % (
+        count, "" if count == 1 else "s", "is" if count == 1 else "are")
 
 
 def _stability(args):
@@ -195,6 +202,8 @@ def _stability(args):
           "gas in liquid peak %d, last %d" % (args.scene, report["status"], report["time"],
                                               report["steps"], report["energy_ratio_max"],
                                               report["closest_min"], peak, last))
+    if report["fluid_out"]:
+        print("  %s" % _left_the_domain(report["fluid_out"]))
     for check, message in report["violations"].items():
         print("  %s: %s" % (check, message))
     if args.out:

@@ -19,6 +19,7 @@ import sys
 import numpy as np
 
 from .. import errors
+from ..scene import KIND_DUMMY, KIND_FLUID, KIND_OUT, KIND_WALL
 from . import scenefile
 
 SCENES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "scenes")
@@ -62,15 +63,18 @@ def below_surface(positions, liquid, which, l0):
     return sum(1 for i in which if positions[i, 1] < tops.get(columns[i], -math.inf) - 0.5 * l0)
 
 
-def outside_tank(sf, positions, fluid):
-    """Fluid particles outside every tank's box of the scene file (rung 6:
-    none may leave)."""
+def outside_tank(sf, positions, fluid, out=None):
+    """Fluid particles outside every tank's box of the scene file, and those
+    of `out` (kinds == KIND_OUT: they left the domain and are out of the
+    run) wherever they stopped (rung 6: none may leave). fluid: the fluid
+    particles at the start."""
     inside = np.zeros(len(positions), dtype=bool)
     for tank in sf.data.get("tank", []):
         x0, y0, x1, y1 = tank["box"]
         inside |= ((positions[:, 0] >= x0) & (positions[:, 0] <= x1) &
                    (positions[:, 1] >= y0) & (positions[:, 1] <= y1))
-    return int((fluid & ~inside).sum())
+    gone = ~inside if out is None else ~inside | out
+    return int((fluid & gone).sum())
 
 
 def _rms(v, mask):
@@ -88,8 +92,8 @@ def still_water_under_air(until=10.0, sample_every=0.01, path=None):
         sf, s = _solver(path, without=without)
         with s:
             kinds, fluids = s.kinds(), s.fluid_ids()
-            water = (kinds == 0) & (fluids == sf.fluids.index("water"))
-            air = (kinds == 0) & ~water
+            water = (kinds == KIND_FLUID) & (fluids == sf.fluids.index("water"))
+            air = (kinds == KIND_FLUID) & ~water
             air_ids = np.flatnonzero(air)
             worst_water = worst_air = 0.0
             most_below = most_outside = 0
@@ -97,14 +101,17 @@ def still_water_under_air(until=10.0, sample_every=0.01, path=None):
             for k in range(1, steps + 1):
                 t = k * sample_every
                 s.advance_to(t)
-                r, v = s.positions(), s.velocities()
+                r, v, now = s.positions(), s.velocities(), s.kinds()
                 if t > 0.5 - 1e-12:
                     worst_water = max(worst_water, _rms(v, water))
                 if air.any():
                     if t > 1.0 - 1e-12:
                         worst_air = max(worst_air, _rms(v, air))
-                    most_below = max(most_below, below_surface(r, water, air_ids, sf.l0))
-                most_outside = max(most_outside, outside_tank(sf, r, kinds == 0))
+                    # the surface of the water in the run (not a drop frozen out of it)
+                    most_below = max(most_below, below_surface(r, water & (now == KIND_FLUID),
+                                                               air_ids, sf.l0))
+                most_outside = max(most_outside, outside_tank(sf, r, kinds == KIND_FLUID,
+                                                              now == KIND_OUT))
             result[label] = {"worst_water_rms": worst_water, "steps": s.step_count,
                              "most_outside_tank": most_outside}
             if air.any():
@@ -122,7 +129,7 @@ def droplet_in_air(path=None, sample_every=0.005):
     sf, s = _solver(path)
     with s:
         r0, kinds, fluids = s.positions(), s.kinds(), s.fluid_ids()
-        water = (kinds == 0) & (fluids == sf.fluids.index("water"))
+        water = (kinds == KIND_FLUID) & (fluids == sf.fluids.index("water"))
         pool_top = r0[water & (r0[:, 1] < 0.2), 1].max() + 0.5 * sf.l0
         drop = np.flatnonzero(water & (r0[:, 1] > pool_top + 0.1))
         y0 = r0[drop, 1].mean()
@@ -153,8 +160,8 @@ def bubble_rise(name, until=2.0, sample_every=0.01, path=None):
     sf, s = _solver(path)
     with s:
         r0, kinds, fluids = s.positions(), s.kinds(), s.fluid_ids()
-        water = (kinds == 0) & (fluids == sf.fluids.index("water"))
-        air = (kinds == 0) & ~water
+        water = (kinds == KIND_FLUID) & (fluids == sf.fluids.index("water"))
+        air = (kinds == KIND_FLUID) & ~water
         air_ids = np.flatnonzero(air)
         columns, tops = _column_tops(r0, water, sf.l0)
         bubble = np.array([i for i in air_ids
@@ -172,9 +179,10 @@ def bubble_rise(name, until=2.0, sample_every=0.01, path=None):
             except errors.Error as e:
                 status = "failed at t = %.3f s: %s" % (t, str(e)[:300])
                 break
-            r = s.positions()
-            most_outside = max(most_outside, outside_tank(sf, r, kinds == 0))
-            inside = below_surface(r, water, bubble, sf.l0)
+            r, now = s.positions(), s.kinds()
+            most_outside = max(most_outside, outside_tank(sf, r, kinds == KIND_FLUID,
+                                                          now == KIND_OUT))
+            inside = below_surface(r, water & (now == KIND_FLUID), bubble, sf.l0)
             in_water.append((round(t, 6), inside))
             if inside == len(bubble) and whole:
                 rise = (r[bubble, 1].mean() - y_start) / t
@@ -183,7 +191,7 @@ def bubble_rise(name, until=2.0, sample_every=0.01, path=None):
             if inside == 0 and all_out_at is None:
                 all_out_at = t
         water_rms = _rms(s.velocities(), water)
-        _, tops_end = _column_tops(s.positions(), water, sf.l0)
+        _, tops_end = _column_tops(s.positions(), water & (s.kinds() == KIND_FLUID), sf.l0)
         # the surface settled back flat: the columns' tops about their mean, in l0
         level = np.array(list(tops_end.values()))
         surface = float(np.abs(level - level.mean()).max() / sf.l0)
@@ -205,8 +213,10 @@ def gas_thrown_up(speed=3.0, until=0.3, buffer=True, sample_every=0.005, path=No
     damping layer (effect gas_buffer) or without it (an open top). Reports
     the highest the thrown particle and any gas particle got above the
     gas's starting top, in l0, the most gas particles above the tank's walls
-    or outside its sides, and the thrown particle's vertical velocity at
-    the end (or the divergence's message: a particle left the domain)."""
+    or outside its sides (or out of the run), the fluid particles that left
+    the domain and are out of the run (statistic fluid_out; parameter
+    out_limit), the thrown particle's vertical velocity at the end, and the
+    divergence's message if the run diverged."""
     from ..solver import Solver
     path = path or scene_path("still_water_under_air")
     sf = scenefile.load(path)
@@ -229,7 +239,7 @@ def gas_thrown_up(speed=3.0, until=0.3, buffer=True, sample_every=0.005, path=No
         s = Solver(scene)
     with s:
         ids, kinds = s.fluid_ids(), s.kinds()
-        gas = (kinds == 0) & (ids == sf.fluids.index("air"))
+        gas = (kinds == KIND_FLUID) & (ids == sf.fluids.index("air"))
         thrown = int(np.argmin(np.hypot(*(s.positions() - start).T)))
         gas_top = float(s.positions()[gas, 1].max())
         tx0, _, tx1, ty1 = sf.data["tank"][0]["box"]
@@ -240,20 +250,22 @@ def gas_thrown_up(speed=3.0, until=0.3, buffer=True, sample_every=0.005, path=No
         for k in range(1, steps + 1):
             try:
                 s.advance_to(k * sample_every)
-            except errors.DivergedError as e:  # flew out of the domain: the open top
+            except errors.DivergedError as e:
                 diverged = str(e)
                 break
             r = s.positions()
             highest = max(highest, r[thrown, 1])
             highest_gas = max(highest_gas, r[gas, 1].max())
-            out = gas & ((r[:, 1] > ty1) | (r[:, 0] < tx0) | (r[:, 0] > tx1))
+            # out of the run: it flew out of the domain (the open top)
+            out = gas & ((r[:, 1] > ty1) | (r[:, 0] < tx0) | (r[:, 0] > tx1) |
+                         (s.kinds() == KIND_OUT))
             most_out = max(most_out, int(out.sum()))
         return {"buffer": bool(buffer), "speed": speed, "until": until, "diverged": diverged,
                 "effect_on": s.effects()["gas_buffer"][0],
                 "thrown_highest_above_top": (highest - gas_top) / l0,
                 "gas_highest_above_top": (highest_gas - gas_top) / l0,
                 "tank_top_above_gas_top": (ty1 - gas_top) / l0,
-                "most_gas_outside_tank": most_out,
+                "most_gas_outside_tank": most_out, "out_of_run": s.stat("fluid_out"),
                 "thrown_velocity_at_end": float(s.velocities()[thrown, 1])}
 
 def droplet_thrown_up(speed=4.0, until=0.15, sample_every=0.01, path=None):
@@ -373,14 +385,15 @@ def widest_gas_hole(position, kind, light, tank, l0):
     points = points[below] if len(points) else points
     if len(points) == 0:
         return 1.0  # every lattice point within l0 of a particle: no hole wider than 1 l0
-    fluid = kind == 0
+    fluid = kind == KIND_FLUID
     d_gas = _nearest_distance(points, gas)
     liquid = position[fluid & ~light]
     d_liquid = _nearest_distance(points, liquid)
     in_gas = d_gas <= d_liquid
     if not in_gas.any():
         return 1.0
-    d_any = np.minimum(np.minimum(d_gas, d_liquid), _nearest_distance(points, position[~fluid]))
+    solid = (kind == KIND_WALL) | (kind == KIND_DUMMY)  # not fluid out of the run
+    d_any = np.minimum(np.minimum(d_gas, d_liquid), _nearest_distance(points, position[solid]))
     return float(max(1.0, (2.0 * d_any[in_gas].max() - l0) / l0))
 
 
@@ -397,7 +410,7 @@ def paper_case_measures(results_path, water="water", air="air"):
         tank = tomllib.loads(f.scene_text)["tank"][0]["box"]
         l0 = float(f.metadata["l0"])
         for snap in f.snapshots():
-            fluid = snap["kind"] == 0
+            fluid = snap["kind"] == KIND_FLUID  # in the run
             is_water = fluid & (snap["fluid_id"] == names.index(water))
             light = fluid & (snap["fluid_id"] == names.index(air))
             count = suspended_water(snap["position"], is_water, l0)
@@ -464,7 +477,7 @@ def paper_case(until=10.0, path=None, parameters=None, sample_every=0.005,
     tank = sf.data["tank"][0]["box"]
     with sf.make_solver() as s:
         kinds, ids = s.kinds(), s.fluid_ids()
-        fluid = kinds == 0
+        fluid = kinds == KIND_FLUID
         water = fluid & (ids == sf.fluids.index("water"))
         light = fluid & (ids == sf.fluids.index("air"))
         times, counts = [], []
@@ -478,8 +491,9 @@ def paper_case(until=10.0, path=None, parameters=None, sample_every=0.005,
                 r = s.positions()
                 if s.time >= 5.0 - 1e-9:
                     suspended.append(suspended_water(r, water, sf.l0) / water.sum())
-                holes.append(widest_gas_hole(r, kinds, light, tank, sf.l0))
-                outside = max(outside, outside_tank(sf, r, fluid))
+                now = s.kinds()
+                holes.append(widest_gas_hole(r, now, light & (now == KIND_FLUID), tank, sf.l0))
+                outside = max(outside, outside_tank(sf, r, fluid, now == KIND_OUT))
         times, counts = np.array(times), np.array(counts)
         result = air_leaves(times, counts)
         result.update(until=until, steps=s.step_count,

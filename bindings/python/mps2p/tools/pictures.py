@@ -11,6 +11,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from ..scene import KIND_DUMMY, KIND_WALL  # noqa: E402
+
 REFERENCE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data",
                          "martin_moyce_1952.csv")
 PHASE_COLOURS = ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple"]
@@ -26,7 +28,7 @@ STAT_UNITS = {
     "two_phase_active": "0 or 1", "ppe_unknowns": "unknowns", "gas_ppe_unknowns": "unknowns",
     "ppe_iterations": "iterations", "ppe_iterations_total": "iterations",
     "gas_ppe_iterations": "iterations", "neighbour_builds": "builds",
-    "ppe_analyses": "analyses", "diverged_particle": "index",
+    "ppe_analyses": "analyses", "diverged_particle": "index", "fluid_out": "particles",
 }
 TITLE_SIZE = 11
 
@@ -51,8 +53,14 @@ def _frame(ax, lo, hi, pad, t):
     ax.set_ylabel("y (m)")
 
 
+def _solid(kinds):
+    """Walls and dummies; not fluid that left the domain (KIND_OUT), which is
+    not drawn: out of the run, it is outside the domain."""
+    return (kinds == KIND_WALL) | (kinds == KIND_DUMMY)
+
+
 def _walls(ax, xy, kinds):
-    solid = kinds != 0
+    solid = _solid(kinds)
     return ax.scatter(xy[solid, 0], xy[solid, 1], s=1.5, c="0.6", label="walls")
 
 
@@ -164,7 +172,7 @@ def zoom_picture(path, snap, particle, half_width, title, fluid_names, reason=""
     centre = xy[particle]
     near = np.all(np.abs(xy - centre) <= half_width, axis=1)
     fig, ax = plt.subplots(figsize=(6.5, 6.5), layout="constrained")
-    ax.scatter(xy[near & (kinds != 0), 0], xy[near & (kinds != 0), 1], s=25, c="0.6",
+    ax.scatter(xy[near & _solid(kinds), 0], xy[near & _solid(kinds), 1], s=25, c="0.6",
                label="walls")
     for k, name in enumerate(fluid_names):
         mine = near & (kinds == 0) & (ids == k)

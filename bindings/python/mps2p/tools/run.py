@@ -13,6 +13,7 @@ from .. import errors
 from .._core import version
 from ..progress import Progress
 from ..results import Results
+from ..scene import KIND_DUMMY, KIND_FLUID, KIND_OUT, KIND_WALL
 from .scenefile import check_schedule, load
 
 PICTURE_SNAPSHOTS = 6
@@ -62,11 +63,16 @@ def _schedule(end_time, every):
 
 
 def particle_counts(solver, fluid_names):
+    """Particles per fluid in the run, walls, dummies, and (when any) the
+    fluid particles that left the domain and are out of the run ("out")."""
     kinds, ids = solver.kinds(), solver.fluid_ids()
-    counts = {name: int(np.count_nonzero((kinds == 0) & (ids == k)))
+    counts = {name: int(np.count_nonzero((kinds == KIND_FLUID) & (ids == k)))
               for k, name in enumerate(fluid_names)}
-    counts["wall"] = int(np.count_nonzero(kinds == 1))
-    counts["dummy"] = int(np.count_nonzero(kinds == 2))
+    counts["wall"] = int(np.count_nonzero(kinds == KIND_WALL))
+    counts["dummy"] = int(np.count_nonzero(kinds == KIND_DUMMY))
+    out = int(np.count_nonzero(kinds == KIND_OUT))
+    if out:
+        counts["out"] = out
     return counts
 
 
@@ -174,6 +180,8 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False):
         "final": solver.stats(),
         "probes": probes.names,
         "diverged_particle": diverged_particle,
+        # out of the run, not diverged: up to parameter out_limit's share may leave
+        "fluid_out": solver.stat("fluid_out"),
     }
     _write_series(os.path.join(out_dir, "series.csv"), probes.names, rows)
     with open(os.path.join(out_dir, "summary.json"), "w") as f:

@@ -6,23 +6,32 @@ check, after every step, what a stable run must keep true.
     inside the tank   every fluid particle inside its tank's walls (x between
                       the side walls' first layers, y above the floor's; open
                       tops may spill liquid, but gas above the walls' top has
-                      left: the gas's top is a boundary, effect gas_buffer);
+                      left: the gas's top is a boundary, effect gas_buffer; a
+                      gas particle out of the run, KIND_OUT, has left the
+                      domain and so the tank);
     energy            kinetic energy <= potential energy released + work done
                       by the excitation + MARGIN x (the potential energy
-                      available at the start + the largest work done);
-    counts            particles per fluid unchanged;
+                      available at the start + the largest work done); a
+                      particle out of the run keeps the potential energy of
+                      where it stopped (the library's sums leave it out);
+    counts            particles per fluid unchanged (those out of the run
+                      included: they keep their fluid);
     spacing           no fluid particle closer than CLOSEST l0 to another
                       particle for more than CLOSEST_STEPS steps in a row.
 
 The margins are documented in docs/two-phase.md; they are properties of a
 stable run, not fitted to one. `check_run` returns a report (a dict) with the
-first violation of each check and the time series the docs draw from.
+first violation of each check, the fluid particles that left the domain and
+are out of the run ("fluid_out"; parameter out_limit lets up to its share
+of the fluid leave before the run diverges) and the time series the docs
+draw from.
 """
 import math
 
 import numpy as np
 
 from .. import errors
+from ..scene import KIND_FLUID, KIND_OUT
 from .scenefile import load
 
 MARGIN = 0.05
@@ -34,7 +43,7 @@ def _masses(solver, scene_file):
     densities = [f["density"] for f in scene_file.data.get("fluid", [])]
     ids = solver.fluid_ids()
     kinds = solver.kinds()
-    fluid = kinds == 0
+    fluid = kinds == KIND_FLUID
     mass = np.zeros(len(ids))
     mass[fluid] = np.array(densities)[ids[fluid]] * scene_file.l0 ** 2
     return mass, fluid, ids
@@ -98,7 +107,7 @@ def _check(solver, scene_file, end, sample_every, progress):
     period = _parameter(scene_file, "excitation_period", 1.0)
     report = {"status": "ok", "reason": "", "end_time": end, "time": 0.0, "steps": 0,
               "violations": {}, "energy_ratio_max": 0.0, "closest_min": math.inf,
-              "closest_streak_max": 0, "series": []}
+              "closest_streak_max": 0, "fluid_out": 0, "series": []}
     work, work_max, streak = 0.0, 0.0, 0
     next_sample = 0.0
 
@@ -120,6 +129,7 @@ def _check(solver, scene_file, end, sample_every, progress):
         if not (np.isfinite(xy).all() and np.isfinite(uv).all()):
             violate("nan", "non-finite position or velocity")
             break
+        gone = solver.kinds() == KIND_OUT  # left the domain, out of the run
         # excitation: the fluid is pushed by -A sin(2 pi t / T) along x over the step
         if amplitude:
             force = -amplitude * math.sin(2.0 * math.pi * t_start / period)
@@ -131,13 +141,16 @@ def _check(solver, scene_file, end, sample_every, progress):
             x0, y0, x1, y1 = x0 - 0.5 * l0, y0 - 0.5 * l0, x1 + 0.5 * l0, y1 + 0.5 * l0
             mine = fluid & (owner == k)
             out = mine & ((xy[:, 0] < x0) | (xy[:, 0] > x1) | (xy[:, 1] < y0) |
-                          (light & (xy[:, 1] > y1)))
+                          (light & ((xy[:, 1] > y1) | gone)))
             if out.any():
                 i = int(np.flatnonzero(out)[0])
-                violate("inside", "particle %d (fluid %s) left tank %d at (%.4f, %.4f)" % (
-                    i, scene_file.fluids[ids[i]], k, xy[i, 0], xy[i, 1]))
+                violate("inside", "particle %d (fluid %s) left tank %d at (%.4f, %.4f)%s" % (
+                    i, scene_file.fluids[ids[i]], k, xy[i, 0], xy[i, 1],
+                    " and the domain: out of the run" if gone[i] else ""))
         kinetic = solver.stat("kinetic_energy")
-        released = potential0 - solver.stat("potential_energy")
+        # the potential energy of the particles out of the run, where they stopped
+        potential_out = float(np.sum(mass[gone] * g_size * (xy[gone] @ up)))
+        released = potential0 - solver.stat("potential_energy") - potential_out
         allowance = released + work + MARGIN * (available + work_max)
         scale = max(released + work, MARGIN * (available + work_max), 1e-300)
         report["energy_ratio_max"] = max(report["energy_ratio_max"], kinetic / scale)
@@ -154,6 +167,7 @@ def _check(solver, scene_file, end, sample_every, progress):
         if solver.time >= next_sample - 1e-12:
             report["series"].append(_sample(solver, scene_file, mass, fluid, ids, kinetic,
                                             released, work, closest))
+            report["fluid_out"] = report["series"][-1]["fluid_out"]
             next_sample += sample_every
             if progress:
                 progress(report["series"][-1])
@@ -164,10 +178,14 @@ def _check(solver, scene_file, end, sample_every, progress):
     report["time"] = solver.time
     report["steps"] = solver.step_count
     report["particles"] = dict(zip(scene_file.fluids, counts0.tolist()))
+    gone = solver.kinds() == KIND_OUT
+    xy = solver.positions()
+    potential_out = float(np.sum(mass[gone] * g_size * (xy[gone] @ up)))
     report["series"].append(_sample(solver, scene_file, mass, fluid, ids,
                                     solver.stat("kinetic_energy"),
-                                    potential0 - solver.stat("potential_energy"), work,
-                                    solver.stat("closest_pair")))
+                                    potential0 - solver.stat("potential_energy") - potential_out,
+                                    work, solver.stat("closest_pair")))
+    report["fluid_out"] = report["series"][-1]["fluid_out"]
     if report["violations"] and report["status"] == "ok":
         report["status"] = "unstable"
     return report
@@ -175,7 +193,8 @@ def _check(solver, scene_file, end, sample_every, progress):
 
 def _sample(solver, scene_file, mass, fluid, ids, kinetic, released, work, closest):
     row = {"time": solver.time, "kinetic_energy": kinetic, "released": released,
-           "work": work, "closest_pair": closest, "max_speed": solver.stat("max_speed")}
+           "work": work, "closest_pair": closest, "max_speed": solver.stat("max_speed"),
+           "fluid_out": solver.stat("fluid_out")}
     speed2 = (solver.velocities() ** 2).sum(axis=1)
     for k, name in enumerate(scene_file.fluids):
         mine = fluid & (ids == k)
