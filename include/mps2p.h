@@ -531,7 +531,7 @@ MPS2P_API int mps2p_solver_load_checkpoint(const char *path, mps2p_solver **solv
 
 /* Samples the particles at count points (points: x0, y0, x1, y1, ...), with
  * the MPS weight w(r) = re / r - 1 (r < re, re the density radius
- * re_density l0):
+ * re_density l0), over the particles in the run (not MPS2P_KIND_OUT ones):
  *   pressure[k]   sum of w p over fluid and wall particles / sum of w (Pa);
  *   velocity      sum of w u over fluid particles / sum of w (m/s; 2*count;
  *                 may be NULL);
@@ -546,8 +546,8 @@ MPS2P_API int mps2p_solver_probe(const mps2p_solver *solver, size_t count,
                                  const double *points, double *pressure,
                                  double *velocity, int *inside);
 
-/* Surge front: the largest x among fluid particles of fluid fluid_id (-1 =
- * any fluid) with y < below_y (INFINITY = no limit), plus l0 / 2 (m).
+/* Surge front: the largest x among fluid particles in the run of fluid
+ * fluid_id (-1 = any fluid) with y < below_y (INFINITY = no limit), plus l0 / 2 (m).
  * MPS2P_ERR_INVALID if no particle qualifies. */
 MPS2P_API int mps2p_solver_front(const mps2p_solver *solver, int fluid_id, double below_y,
                                  double *front_x);
