@@ -234,6 +234,12 @@ int main(void)
     position[2] = 0.5;
     EXPECT(mps2p_scene_add_particles(scene, 2, position, NULL, kinds, ids), MPS2P_ERR_INVALID,
            "kind 9");
+    kinds[1] = MPS2P_KIND_OUT; /* a solver's only: fluid that left the domain */
+    EXPECT(mps2p_scene_add_particles(scene, 2, position, NULL, kinds, ids), MPS2P_ERR_INVALID,
+           "kind 3 is not MPS2P_KIND_FLUID, _WALL or _DUMMY (MPS2P_KIND_OUT");
+    EXPECT(mps2p_scene_add_body_particles(scene, "lid", 1, position, kinds + 1, NULL),
+           MPS2P_ERR_INVALID, "got kind 3 (MPS2P_KIND_OUT");
+    kinds[1] = 9;
     EXPECT(mps2p_scene_add_particles(scene, 2, position, NULL, kinds, NULL), MPS2P_ERR_NULL,
            "fluid_ids is NULL");
     MUST(mps2p_scene_particle_count(scene, &count));
