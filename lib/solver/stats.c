@@ -113,9 +113,10 @@ static double closest_pair(const mps2p_solver *s)
 
 #define STAT(name, is_count, description) {#name, description, is_count, name}
 static const stat_entry solver_stats[] = {
-    STAT(max_speed, 0, "largest fluid speed (m/s)"),
-    STAT(kinetic_energy, 0, "sum of m u^2 / 2 over fluid, m = rho l0^2 (J per m depth)"),
-    STAT(potential_energy, 0, "sum of -m g.r over fluid (J per m depth)"),
+    STAT(max_speed, 0, "largest speed of the fluid in the run (m/s)"),
+    STAT(kinetic_energy, 0,
+         "sum of m u^2 / 2 over the fluid in the run, m = rho l0^2 (J per m depth)"),
+    STAT(potential_energy, 0, "sum of -m g.r over the fluid in the run (J per m depth)"),
     STAT(pressure_min, 0, "lowest pressure of the fluid and wall particles (Pa)"),
     STAT(pressure_max, 0, "highest pressure of the fluid and wall particles (Pa)"),
     STAT(ppe_unknowns, 1, "unknowns of the last pressure solve"),
