@@ -525,7 +525,8 @@ def run_turning(out, quick):
         fluid = kind == mps2p.KIND_FLUID
         shown = axes[1 + n].scatter(r[fluid, 0], r[fluid, 1], c=p[fluid], s=4, cmap="viridis",
                                     vmin=0.0, vmax=1.5)
-        axes[1 + n].scatter(r[~fluid, 0], r[~fluid, 1], c="0.6", s=1)
+        solid = (kind == mps2p.KIND_WALL) | (kind == mps2p.KIND_DUMMY)  # not fluid out of the run
+        axes[1 + n].scatter(r[solid, 0], r[solid, 1], c="0.6", s=1)
         axes[1 + n].set_xlim(-0.45, 0.04)
         axes[1 + n].set_ylim(-0.04, 0.9)
         axes[1 + n].set_aspect("equal")
