@@ -298,9 +298,9 @@ def droplet_thrown_up(speed=4.0, until=0.15, sample_every=0.01, path=None):
         s = Solver(scene)
     with s:
         kinds, ids = s.kinds(), s.fluid_ids()
-        light = (kinds == 0) & (ids == sf.fluids.index("air"))
+        light = (kinds == KIND_FLUID) & (ids == sf.fluids.index("air"))
         r0 = s.positions()
-        droplet = np.flatnonzero((kinds == 0) & (ids == water_id) & (r0[:, 1] > 0.2))
+        droplet = np.flatnonzero((kinds == KIND_FLUID) & (ids == water_id) & (r0[:, 1] > 0.2))
         layer = r0[light, 1].max() - depth * l0
         widest, reached = 1.0, None
         for k in range(1, int(round(until / sample_every)) + 1):
@@ -309,7 +309,8 @@ def droplet_thrown_up(speed=4.0, until=0.15, sample_every=0.01, path=None):
             if r[droplet, 1].max() + 0.5 * l0 >= layer:
                 reached = s.time
                 break
-            widest = max(widest, widest_gas_hole(r, kinds, light, tank, l0))
+            now = s.kinds()  # the gas in the run
+            widest = max(widest, widest_gas_hole(r, now, light & (now == KIND_FLUID), tank, l0))
         return {"speed": speed, "droplet_particles": int(len(droplet)),
                 "widest_gas_hole": widest, "reached_layer_at": reached}
 
