@@ -58,30 +58,11 @@ static int mark_open_gas(mps2p_solver *s, double *layer_bottom, double up[2])
     if (!s->effect_active[EFFECT_GAS_BUFFER] || !tp->have_gas_top || !gravity_up(s, up))
         return 0;
     const double bottom = tp->gas_top - s->params.gas_buffer_depth * s->l0;
-    const double re = s->params.re_density * s->l0, re2 = re * re;
-    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *r = s->state.position;
-    long *queue = tp->bubble_queue; /* free after interface_join */
-    size_t head = 0, tail = 0;
     for (size_t i = 0; i < s->count; i++)
-        if (light_in_run(s, i) && !moves_with_liquid(s, i) &&
-            r[2 * i] * up[0] + r[2 * i + 1] * up[1] >= bottom) {
-            tp->gas_open[i] = 1;
-            queue[tail++] = (long)i;
-        }
-    while (head < tail) {
-        size_t i = (size_t)queue[head++];
-        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
-            size_t j = nl.index[k];
-            if (!tp->light[j] || tp->gas_open[j] || moves_with_liquid(s, j))
-                continue;
-            double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
-            if (dx * dx + dy * dy >= re2)
-                continue;
-            tp->gas_open[j] = 1;
-            queue[tail++] = (long)j;
-        }
-    }
+        tp->gas_open[i] = light_in_run(s, i) && !moves_with_liquid(s, i) &&
+                          r[2 * i] * up[0] + r[2 * i + 1] * up[1] >= bottom;
+    light_flood(s, tp->gas_open, 1);
     *layer_bottom = bottom;
     return 1;
 }

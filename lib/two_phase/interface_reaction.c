@@ -119,31 +119,11 @@ int interface_scan(mps2p_solver *s, double dt)
 static size_t mark_bubbles(mps2p_solver *s)
 {
     two_phase *tp = s->phases;
-    const double re = s->params.re_density * s->l0, re2 = re * re;
-    const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
-    const double *r = s->state.position;
     const double threshold = s->params.beta * s->n0_density;
     unsigned char *reached = tp->bubble; /* reached first, then its complement */
-    long *queue = tp->bubble_queue;
-    size_t head = 0, tail = 0;
-    for (size_t i = 0; i < s->count; i++) {
+    for (size_t i = 0; i < s->count; i++)
         reached[i] = light_in_run(s, i) && s->number_density[i] < threshold;
-        if (reached[i])
-            queue[tail++] = (long)i;
-    }
-    while (head < tail) {
-        size_t i = (size_t)queue[head++];
-        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
-            size_t j = nl.index[k];
-            if (!tp->light[j] || reached[j])
-                continue;
-            double dx = r[2 * j] - r[2 * i], dy = r[2 * j + 1] - r[2 * i + 1];
-            if (dx * dx + dy * dy >= re2)
-                continue;
-            reached[j] = 1;
-            queue[tail++] = (long)j;
-        }
-    }
+    light_flood(s, reached, 0);
     size_t count = 0;
     for (size_t i = 0; i < s->count; i++) {
         reached[i] = light_in_run(s, i) && !reached[i];

@@ -31,7 +31,7 @@
  *                    at the end of every step (and at allocation): rebuilt
  *                    from join_weight, not saved
  * Not carried: light, gas_rho, improved and the densities come from the
- * scene; triggered, enclosed, was_joined, bubble, bubble_queue, heavy_part, gas_part, the
+ * scene; triggered, enclosed, was_joined, bubble, flood_queue, heavy_part, gas_part, the
  * surfaces, gas_open, heavy_n, heavy_n_start, gas_n and heavy_rho are
  * written for every particle in a step before they are read. */
 #include "core/core.h"
@@ -63,7 +63,7 @@ static const field two_phase_rows[] = {
     ARRAY(enclosed, FIELD_FLAG, 0),
     ARRAY(was_joined, FIELD_FLAG, 0),
     ARRAY(bubble, FIELD_FLAG, 0),
-    ARRAY(bubble_queue, FIELD_LONG, 0),
+    ARRAY(flood_queue, FIELD_LONG, 0),
     ARRAY(heavy_part, FIELD_FLAG, 0),
     ARRAY(gas_part, FIELD_FLAG, 0),
     ARRAY(heavy_surface, FIELD_FLAG, 0),

@@ -25,7 +25,7 @@ typedef struct two_phase {
     unsigned char *joined;      /* light particle taking part in the liquid solve */
     unsigned char *was_joined;  /* joined in the step before */
     unsigned char *bubble;      /* light, cut off from the gas's free surface */
-    long *bubble_queue;         /* the flood fill's queue (interface_join) */
+    long *flood_queue;          /* light_flood's queue */
     double *join_weight;        /* weight in the liquid's number density, ramped 0..1 */
     unsigned char *heavy_part;  /* participants of the liquid PPE */
     unsigned char *heavy_mask;  /* neighbours the liquid sees: not light, or joined */
@@ -108,6 +108,10 @@ double phases_collision_share(const mps2p_solver *s, size_t i, size_t j, int *wh
 void phases_pressure_combine(mps2p_solver *s);         /* gas_pressure.c */
 /* A light particle moved by the liquid's pressure (correction.c). */
 int moves_with_liquid(const mps2p_solver *s, size_t i);
+/* Marks the light particles joined through light neighbours within
+ * re_density to one marked in reached (the seeds), passing through none
+ * moved by the liquid when skip_with_liquid (light_flood.c). */
+void light_flood(mps2p_solver *s, unsigned char *reached, int skip_with_liquid);
 size_t gas_in_liquid_count(const mps2p_solver *s);     /* gas_in_liquid.c */
 /* A light particle with more heavy-fluid than light-fluid neighbours within re. */
 int more_liquid_than_light_neighbours(const mps2p_solver *s, size_t i);
