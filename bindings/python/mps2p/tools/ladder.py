@@ -315,6 +315,53 @@ def droplet_thrown_up(speed=4.0, until=0.15, sample_every=0.01, path=None):
                 "widest_gas_hole": widest, "reached_layer_at": reached}
 
 
+def void_in_gas(width=4, dt=None, until=0.2, sample_every=0.01, path=None):
+    """Under rung 4's holes: a void closing in still air. Rung 2's pool
+    under 0.5 m of air with a square hole `width` l0 wide cut out of the air
+    0.2 m above the pool (well below the gas's damping layer), at the
+    scene's dt or a fixed `dt`. Reports the widest hole in the gas
+    (widest_gas_hole, l0) at the start and at `until`, when it first fell to
+    1.5 l0, the fastest gas particle and the lowest gas pressure over the
+    samples, and the divergence message if the run stopped."""
+    from ..solver import Solver
+    path = path or scene_path("droplet_in_air")
+    sf = scenefile.load(path)
+    l0 = sf.l0
+    h0, h1 = 0.3 - 0.5 * width * l0, 0.3 + 0.5 * width * l0
+    x0, x1 = 0.15 - 0.5 * width * l0, 0.15 + 0.5 * width * l0
+    data = dict(sf.data)
+    data["fluid_box"] = [{"fluid": "water", "box": [0.0, 0.0, 0.3, 0.1]},
+                         {"fluid": "air", "box": [0.0, 0.1, 0.3, h0]},
+                         {"fluid": "air", "box": [0.0, h0, x0, h1]},
+                         {"fluid": "air", "box": [x1, h0, 0.3, h1]},
+                         {"fluid": "air", "box": [0.0, h1, 0.3, 0.6]}]
+    if dt is not None:
+        data["parameters"] = dict(data.get("parameters", {}), dt=dt)
+    sf = scenefile.SceneFile(path, sf.text, data)
+    tank = data["tank"][0]["box"]
+    result = {"width": width, "dt": dt, "until": until, "closed_at": None,
+              "diverged": None, "fastest_gas": 0.0, "lowest_gas_pressure": 0.0}
+    with sf.make_solver() as s:
+        light = (s.kinds() == KIND_FLUID) & (s.fluid_ids() == sf.fluids.index("air"))
+        result["hole_at_start"] = widest_gas_hole(s.positions(), s.kinds(), light, tank, l0)
+        hole = result["hole_at_start"]
+        try:
+            for k in range(1, int(round(until / sample_every)) + 1):
+                s.advance_to(k * sample_every)
+                hole = widest_gas_hole(s.positions(), s.kinds(), light, tank, l0)
+                if hole <= 1.5 and result["closed_at"] is None:
+                    result["closed_at"] = round(s.time, 9)
+                speed = np.hypot(*s.velocities()[light].T).max()
+                result["fastest_gas"] = max(result["fastest_gas"], float(speed))
+                result["lowest_gas_pressure"] = min(result["lowest_gas_pressure"],
+                                                    float(s.pressure()[light].min()))
+        except errors.DivergedError as e:
+            result["diverged"] = str(e)
+        result["hole_at_end"] = hole
+        result["time"] = s.time
+    return result
+
+
 def _nearest_distance(points, particles, chunk=2048):
     """Distance from each point to its nearest particle (brute force, in
     chunks: a results snapshot is a few thousand particles)."""
@@ -349,22 +396,43 @@ def suspended_water(position, water, l0, radius=2.1):
                    if y > tops.get(c, -math.inf)))
 
 
+def _reached_from_top(free):
+    """The cells of a boolean (x, y) grid joined to its top row's free cells
+    through free cells (4-neighbours)."""
+    reached = np.zeros_like(free)
+    nx, ny = free.shape
+    stack = [(i, ny - 1) for i in range(nx) if free[i, ny - 1]]
+    for i, j in stack:
+        reached[i, j] = True
+    while stack:
+        i, j = stack.pop()
+        for a, b in ((i + 1, j), (i - 1, j), (i, j + 1), (i, j - 1)):
+            if 0 <= a < nx and 0 <= b < ny and free[a, b] and not reached[a, b]:
+                reached[a, b] = True
+                stack.append((a, b))
+    return reached
+
+
 def widest_gas_hole(position, kind, light, tank, l0):
     """Rung 4's holes in the gas, in l0: the widest empty disc (diameter
     2 d - l0, d the distance from its centre to the nearest particle of any
     kind, each particle taken as l0 wide) centred on a point of an l0/2
-    lattice inside the tank's walls, below the highest gas particle of its
-    column, whose nearest fluid particle is gas. Lattice points within l0 of
-    a particle are struck off first (no hole wider than 1 l0 there), the
-    rest measured exactly."""
+    lattice inside the tank's walls that the particles close off from the
+    open air above the gas, and whose nearest fluid particle is gas.
+    Lattice points within l0 of a particle are struck off first (no hole
+    wider than 1 l0 there); a point is closed off when no path through the
+    lattice's other points leads above the highest gas particle (a gas
+    particle floating above the gas's surface, in its damping layer, closes
+    nothing off under it); the rest are measured exactly."""
     x0, y0, x1, _ = tank
     h = 0.5 * l0
     gas = position[light]
     if len(gas) == 0:
         return 0.0
     nx = int(math.floor((x1 - x0 - l0) / h)) + 1
-    ny = int(math.floor((gas[:, 1].max() - y0 - l0) / h)) + 1
-    if nx < 1 or ny < 1:
+    # the top row lies more than l0 above the highest gas particle: the open air
+    ny = int(math.floor((gas[:, 1].max() + 1.5 * l0 - y0 - 0.5 * l0) / h)) + 1
+    if nx < 1 or ny < 2:
         return 0.0
     free = np.ones((nx, ny), dtype=bool)
     cell = np.round((position - (x0 + 0.5 * l0, y0 + 0.5 * l0)) / h).astype(int)
@@ -375,17 +443,11 @@ def widest_gas_hole(position, kind, light, tank, l0):
             i, j = cell[:, 0] + di, cell[:, 1] + dj
             keep = (i >= 0) & (i < nx) & (j >= 0) & (j < ny)
             free[i[keep], j[keep]] = False
-    ii, jj = np.nonzero(free)
+    closed = free & ~_reached_from_top(free)
+    ii, jj = np.nonzero(closed)
     points = np.column_stack((x0 + 0.5 * l0 + h * ii, y0 + 0.5 * l0 + h * jj))
-    columns = np.floor(gas[:, 0] / l0).astype(int)
-    tops = {}
-    for c, y in zip(columns, gas[:, 1]):
-        tops[c] = max(tops.get(c, -math.inf), y)
-    below = np.array([y < tops.get(int(math.floor(x / l0)), -math.inf) for x, y in points],
-                     dtype=bool)
-    points = points[below] if len(points) else points
     if len(points) == 0:
-        return 1.0  # every lattice point within l0 of a particle: no hole wider than 1 l0
+        return 1.0  # every lattice point near a particle or open: no hole wider than 1 l0
     fluid = kind == KIND_FLUID
     d_gas = _nearest_distance(points, gas)
     liquid = position[fluid & ~light]
@@ -516,6 +578,8 @@ RUNGS = {
     "gas_thrown_up": lambda until: [gas_thrown_up(until=until or 0.3, buffer=b)
                                     for b in (True, False)],
     "droplet_thrown_up": lambda until: droplet_thrown_up(until=until or 0.15),
+    "void_in_gas": lambda until: [void_in_gas(dt=dt, until=until or 0.2)
+                                  for dt in (None, 5e-5)],
 }
 
 
