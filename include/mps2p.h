@@ -49,11 +49,11 @@ extern "C" {
  * ------------------------------------------------------------------------- */
 
 #define MPS2P_VERSION_MAJOR 0
-#define MPS2P_VERSION_MINOR 1
+#define MPS2P_VERSION_MINOR 2
 #define MPS2P_VERSION_PATCH 0
 /* major * 10000 + minor * 100 + patch, as for the header you compiled with */
-#define MPS2P_VERSION_NUMBER 100
-#define MPS2P_VERSION_STRING "0.1.0"
+#define MPS2P_VERSION_NUMBER 200
+#define MPS2P_VERSION_STRING "0.2.0"
 
 /* Version of the library actually loaded at run time. */
 MPS2P_API unsigned mps2p_version_number(void);
