@@ -116,8 +116,8 @@ static int gas_free_surface(mps2p_solver *s, const double *n_gas)
 }
 
 /* The gas PPE's n*: a void's edge (below beta n0, not free surface) counts
- * as at beta n0, so that its source asks for no more than a free-surface
- * particle's deficit. Its own deficit (up to half of n0) closed the void in
+ * as at beta n0, so that its source asks for no more than the deficit at
+ * beta n0. Its own deficit (up to half of n0) closed the void in
  * one step: a suction growing as 1 / dt^2, which the adaptive dt, shrinking
  * with the speeds it caused, fed until the paper's case diverged at 1.478 s
  * (an air particle at -15.5 kPa, docs/two-phase.md). The void now closes by
@@ -151,7 +151,7 @@ int gas_pressure_solve(mps2p_solver *s, double dt)
                       .density = tp->gas_rho,
                       .pressure = tp->gas_pressure,
                       .tolerance = s->params.gas_cg_tolerance,
-                      /* n* is the liquid-weighted gas_n, n^k the plain number
+                      /* n* is gas_n (liquid-weighted; void edges raised), n^k the plain number
                        * density: their difference (the ecs and mixed sources)
                        * is not the gas's compression */
                       .density_source = 1,

@@ -47,9 +47,10 @@ def test_bubble_rises_out(name):
     assert m["most_outside_tank"] == 0, m
     assert m["surface_deviation_at_end"] < 1.5, m
     all_out = m["all_out_at"] is not None and m["left_in_water"] == 0
-    if name == "bubble_rise_8x8" and not all_out and m["left_in_water"] == 1:
-        # Known, measured (docs/two-phase.md, "A void's edge asks for no more
-        # than the surface's deficit"): the 8 x 8 bubble's last particle is
+    if (name == "bubble_rise_8x8" and m["all_out_at"] is None and
+            m["left_in_water"] == 1):
+        # Known, measured (docs/two-phase.md, the ladder's table, rung 3's
+        # row): the 8 x 8 bubble's last particle is
         # chaotic; with samples every 0.005, 0.01 and 0.02 s it left at 1.64 s,
         # not by 2 s (one particle in the water's top row by the left wall),
         # and at 1.76 s; the library before: not by 2 s, 1.81 s and 1.86 s.
@@ -94,7 +95,8 @@ def test_splash_wake_in_the_gas_closes():
 def test_void_in_gas_closes_without_a_suction_blowing_up(width, dt):
     """Under rung 4's holes: a square void `width` l0 wide cut out of still
     air (rung 2's pool under 0.5 m of air), at the scene's adaptive dt and
-    at a fixed 1e-4 s, closes to 1.5 l0 within 0.05 s, and the gas's lowest
+    at a fixed 1e-4 s, closes to 1.5 l0 within 0.05 s and stays within 1.6
+    l0 to 0.1 s, and the gas's lowest
     pressure stays within the air's dynamic scale (above -100 Pa; rho_air
     (3 m/s)^2 is 11 Pa). When a void's edge asked for its whole deficit (up
     to half of n0) in one step, the 8 l0 void diverged at 0.0033 s (an air
@@ -111,8 +113,9 @@ def test_void_in_gas_closes_without_a_suction_blowing_up(width, dt):
 @pytest.mark.parametrize("air", [False, True])
 def test_slab_into_wall_throws_no_jet_faster_than_twice_its_speed(air):
     """Under rung 5's spray: a water slab 3 l0 deep sliding at 2.5 m/s into
-    a wall turns up it with no water particle faster than twice the slab's
-    speed, with air around it and without (4.0 and 4.4 m/s measured; the
+    a wall turns up it with no water particle rising faster than twice the
+    slab's speed, and the fastest faster than the slab itself (a jet), with
+    air around it and without (4.4 and 4.0 m/s measured; the
     wet bed's surge tip was kicked to 2.7 times its speed at l0 = 0.01 m;
     slabs 6-10 l0 deep reach 2.1-2.6 without air: docs/two-phase.md)."""
     m = ladder.tip_into_wall(air=air, speed=2.5)

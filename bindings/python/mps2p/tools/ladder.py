@@ -7,7 +7,8 @@ asserted by tests/python/test_two_phase_ladder.py.
 
 prints each rung's measures as JSON (rungs: still_water_under_air,
 droplet_in_air, bubble_rise_4x4, bubble_rise_8x8, dam_break_front,
-paper_case, gas_thrown_up), or with --results rung 4's of a run of the paper's case
+paper_case, gas_thrown_up, droplet_thrown_up, void_in_gas, tip_into_wall), or
+with --results rung 4's of a run of the paper's case
 (`mps2p run`'s results.h5): water suspended in the air and the widest hole in
 the gas, per snapshot."""
 import argparse
@@ -320,10 +321,10 @@ def void_in_gas(width=4, dt=None, until=0.2, sample_every=0.01, path=None):
     under 0.5 m of air with a square hole `width` l0 wide cut out of the air
     0.2 m above the pool (well below the gas's damping layer), at the
     scene's dt or a fixed `dt`. Reports the widest hole in the gas
-    (widest_gas_hole, l0) at the start and at `until`, when it first fell to
-    1.5 l0, the fastest gas particle and the lowest gas pressure over the
-    samples, and the divergence message if the run stopped."""
-    from ..solver import Solver
+    (widest_gas_hole, l0) at the start and at the last sample (`until`, or
+    the last before a divergence), when it first fell to 1.5 l0, the fastest
+    gas particle and the lowest gas pressure over the samples, and the
+    divergence message if the run stopped."""
     path = path or scene_path("droplet_in_air")
     sf = scenefile.load(path)
     l0 = sf.l0
@@ -475,7 +476,8 @@ def widest_gas_hole(position, kind, light, tank, l0):
     wider than 1 l0 there); a point is closed off when no path through the
     lattice's other points leads above the highest gas particle (a gas
     particle floating above the gas's surface, in its damping layer, closes
-    nothing off under it); the rest are measured exactly."""
+    nothing off under it); the rest are measured exactly. A void joined to
+    the air above by a channel wider than about 2 l0 is open, not a hole."""
     x0, y0, x1, _ = tank
     h = 0.5 * l0
     gas = position[light]
@@ -632,8 +634,9 @@ RUNGS = {
     "droplet_thrown_up": lambda until: droplet_thrown_up(until=until or 0.15),
     "tip_into_wall": lambda until: [tip_into_wall(air=a, until=until or 0.15)
                                     for a in (False, True)],
-    "void_in_gas": lambda until: [void_in_gas(dt=dt, until=until or 0.2)
-                                  for dt in (None, 5e-5)],
+    "void_in_gas": lambda until: [void_in_gas(width=w, dt=dt, until=until or 0.2)
+                                  for w, dt in ((4, None), (8, None), (4, 1e-4),
+                                                (4, 2e-4), (4, 5e-5))],
 }
 
 
