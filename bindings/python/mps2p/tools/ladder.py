@@ -269,6 +269,17 @@ def gas_thrown_up(speed=3.0, until=0.3, buffer=True, sample_every=0.005, path=No
                 "most_gas_outside_tank": most_out, "out_of_run": s.stat("fluid_out"),
                 "thrown_velocity_at_end": float(s.velocities()[thrown, 1])}
 
+def _pool_under_air_around(site):
+    """Rung 2's fluid boxes (a 0.1 m pool under air to 0.6 m, 0.3 m wide)
+    with the air left out of the box site = (x0, y0, x1, y1)."""
+    x0, y0, x1, y1 = site
+    return [{"fluid": "water", "box": [0.0, 0.0, 0.3, 0.1]},
+            {"fluid": "air", "box": [0.0, 0.1, 0.3, y0]},
+            {"fluid": "air", "box": [0.0, y0, x0, y1]},
+            {"fluid": "air", "box": [x1, y0, 0.3, y1]},
+            {"fluid": "air", "box": [0.0, y1, 0.3, 0.6]}]
+
+
 def droplet_thrown_up(speed=4.0, until=0.15, sample_every=0.01, path=None):
     """The wake of a splash in the gas (under rung 4's holes): rung 2's pool
     under 0.5 m of air, in a tank 1.2 m high, with a 3 x 3 water droplet
@@ -282,11 +293,7 @@ def droplet_thrown_up(speed=4.0, until=0.15, sample_every=0.01, path=None):
     l0 = sf.l0
     site = (0.14, 0.25, 0.17, 0.28)
     data = dict(sf.data)
-    data["fluid_box"] = [{"fluid": "water", "box": [0.0, 0.0, 0.3, 0.1]},
-                         {"fluid": "air", "box": [0.0, 0.1, 0.3, site[1]]},
-                         {"fluid": "air", "box": [0.0, site[1], site[0], site[3]]},
-                         {"fluid": "air", "box": [site[2], site[1], 0.3, site[3]]},
-                         {"fluid": "air", "box": [0.0, site[3], 0.3, 0.6]}]
+    data["fluid_box"] = _pool_under_air_around(site)
     data["tank"] = [{"box": [0.0, 0.0, 0.3, 1.2], "open_top": True}]
     sf = scenefile.SceneFile(path, sf.text, data)
     tank = data["tank"][0]["box"]
@@ -331,11 +338,7 @@ def void_in_gas(width=4, dt=None, until=0.2, sample_every=0.01, path=None):
     h0, h1 = 0.3 - 0.5 * width * l0, 0.3 + 0.5 * width * l0
     x0, x1 = 0.15 - 0.5 * width * l0, 0.15 + 0.5 * width * l0
     data = dict(sf.data)
-    data["fluid_box"] = [{"fluid": "water", "box": [0.0, 0.0, 0.3, 0.1]},
-                         {"fluid": "air", "box": [0.0, 0.1, 0.3, h0]},
-                         {"fluid": "air", "box": [0.0, h0, x0, h1]},
-                         {"fluid": "air", "box": [x1, h0, 0.3, h1]},
-                         {"fluid": "air", "box": [0.0, h1, 0.3, 0.6]}]
+    data["fluid_box"] = _pool_under_air_around((x0, h0, x1, h1))
     if dt is not None:
         data["parameters"] = dict(data.get("parameters", {}), dt=dt)
     sf = scenefile.SceneFile(path, sf.text, data)
