@@ -124,6 +124,20 @@ def test_slab_into_wall_throws_no_jet_faster_than_twice_its_speed(air):
     assert 1.0 < m["fastest_up_after"] / m["speed"] < 2.0, m
 
 
+def test_slab_pushed_from_rest_meets_the_wall_later():
+    """tip_into_wall's smooth start (ramp): the slab starts at rest and a
+    uniform push brings it to its speed over the ramp, so it meets the wall
+    later than the slab started at full speed, by about half the ramp (0.42
+    of it measured: the front particle runs a little ahead of the push),
+    and still turns up the wall faster than its speed."""
+    sudden = ladder.tip_into_wall(air=False, speed=2.5, until=0.05)
+    pushed = ladder.tip_into_wall(air=False, speed=2.5, until=0.05, ramp=0.02)
+    assert sudden["contact_at"] is not None and pushed["contact_at"] is not None
+    delay = pushed["contact_at"] - sudden["contact_at"]
+    assert 0.25 * 0.02 < delay < 0.75 * 0.02, (sudden, pushed)
+    assert pushed["fastest_up_after"] > 2.5, pushed
+
+
 def test_rung_4_measures_see_what_they_count():
     """The paper's case's measures on made-up particles: an isolated water
     particle in the air above the water counts as suspended, one under a

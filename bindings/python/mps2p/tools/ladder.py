@@ -366,19 +366,21 @@ def void_in_gas(width=4, dt=None, until=0.2, sample_every=0.01, path=None):
     return result
 
 
-def tip_into_wall(air=True, speed=2.5, until=0.15, path=None):
-    """Under rung 5's spray: a water slab 3 l0 deep and 15 l0 long sliding
+def tip_into_wall(air=True, speed=2.5, until=0.15, path=None, depth=3, ramp=0.0):
+    """Under rung 5's spray: a water slab `depth` l0 deep and 15 l0 long sliding
     at `speed` m/s along the floor into the right wall of a 0.3 m tank, with
-    still air around it (air=True) or none. Reports the first contact (the
-    slab's front within l0 of the wall), the fastest upward water speed after
-    it (against 2 speed, about a jet's at a wall), the highest pressure on a
-    light particle (the liquid solve's when joined) and the divergence
-    message if the run stopped; checked after every step."""
+    still air around it (air=True) or none. With ramp > 0 the slab starts at
+    rest and a uniform push brings it to `speed` over `ramp` seconds (the air
+    ahead of it starts with it) instead of starting at `speed`. Reports the
+    first contact (the slab's front within l0 of the wall), the fastest upward
+    water speed after it (against 2 speed, about a jet's at a wall), the
+    highest pressure on a light particle (the liquid solve's when joined) and
+    the divergence message if the run stopped; checked after every step."""
     from ..solver import Solver
     path = path or scene_path("still_water_under_air")
     sf = scenefile.load(path)
     l0 = sf.l0
-    x0, x1, depth = 0.1, 0.25, 3 * l0
+    x0, x1, depth = 0.1, 0.25, depth * l0
     data = dict(sf.data)
     data["fluid_box"] = ([{"fluid": "air", "box": [0.0, depth, 0.3, 0.3]},
                           {"fluid": "air", "box": [0.0, 0.0, x0, depth]},
@@ -388,11 +390,13 @@ def tip_into_wall(air=True, speed=2.5, until=0.15, path=None):
     data["tank"] = [{"box": [0.0, 0.0, 0.3, 0.6], "open_top": True}]
     sf = scenefile.SceneFile(path, sf.text, data)
     n = int(round((x1 - x0) / l0))
-    slab = [(x0 + (i + 0.5) * l0, (j + 0.5) * l0) for i in range(n) for j in range(3)]
+    rows = int(round(depth / l0))
+    slab = [(x0 + (i + 0.5) * l0, (j + 0.5) * l0) for i in range(n) for j in range(rows)]
     water_id = sf.fluids.index("water")
+    start = 0.0 if ramp > 0.0 else speed
     with sf.build() as scene:
         scene.add_particles(slab, [0] * len(slab), [water_id] * len(slab),
-                            [[speed, 0.0]] * len(slab))
+                            [[start, 0.0]] * len(slab))
         s = Solver(scene)
     result = {"air": air, "speed": speed, "contact_at": None, "fastest_up_after": 0.0,
               "highest_light_pressure": 0.0, "diverged": None}
@@ -400,9 +404,17 @@ def tip_into_wall(air=True, speed=2.5, until=0.15, path=None):
         kinds, ids = s.kinds(), s.fluid_ids()
         water = (kinds == KIND_FLUID) & (ids == water_id)
         light = (kinds == KIND_FLUID) & ~water
+        push = np.zeros((s.particle_count, 2))
+        push[water, 0] = speed / ramp if ramp > 0.0 else 0.0
+        pushing = ramp > 0.0
+        if pushing:
+            s.set_body_forces(push)
         try:
             while s.time < until - 1e-12:
-                s.advance_to(until, progress=lambda _: True)  # one step
+                if pushing and s.time >= ramp - 1e-12:
+                    s.set_body_forces(None)
+                    pushing = False
+                s.advance_to(ramp if pushing else until, progress=lambda _: True)  # one step
                 r, u = s.positions(), s.velocities()
                 if result["contact_at"] is None and r[water, 0].max() >= 0.3 - l0:
                     result["contact_at"] = round(s.time, 6)
