@@ -261,6 +261,8 @@ int main(void)
     EXPECT(mps2p_solver_get_positions(solver, small, 4), MPS2P_ERR_BUFFER, "buffer holds 4");
     EXPECT(mps2p_solver_get_pressure(solver, NULL, count), MPS2P_ERR_NULL, "output pointer");
     EXPECT(mps2p_solver_get_stat(solver, "nonsense", &value), MPS2P_ERR_UNKNOWN_KEY, "nonsense");
+    EXPECT(mps2p_solver_get_stat(solver, "max_sped", &value), MPS2P_ERR_UNKNOWN_KEY,
+           "unknown statistic \"max_sped\" (did you mean \"max_speed\"?)");
     EXPECT(mps2p_solver_advance_to(solver, NAN, NULL, NULL), MPS2P_ERR_INVALID, "end time");
     MUST(mps2p_solver_step(solver));
     EXPECT(mps2p_solver_advance_to(solver, -1.0, NULL, NULL), MPS2P_ERR_INVALID,

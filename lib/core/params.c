@@ -212,10 +212,7 @@ static size_t edit_distance(const char *a, const char *b)
     return row[m];
 }
 
-/* " (did you mean \"x\"?)" for the nearest of count names given by name_at,
- * when it is a near miss (a third of the key's letters, at least two, at most);
- * "" otherwise. */
-static void near_miss(const char *key, const char *(*name_at)(size_t), size_t count, char *out,
+void near_miss(const char *key, const char *(*name_at)(size_t), size_t count, char *out,
                       size_t size)
 {
     const char *nearest = NULL;

@@ -173,6 +173,11 @@ int mps2p_stat_info(size_t index, const char **key, const char **description, in
     return MPS2P_OK;
 }
 
+static const char *stat_name_at(size_t index)
+{
+    return stat_at(index)->name;
+}
+
 int mps2p_solver_get_stat(const mps2p_solver *s, const char *key, double *value)
 {
     error_clear();
@@ -187,5 +192,10 @@ int mps2p_solver_get_stat(const mps2p_solver *s, const char *key, double *value)
             *value = stat_at(k)->value(s);
             return MPS2P_OK;
         }
-    return fail(NULL, MPS2P_ERR_UNKNOWN_KEY, "unknown statistic \"%s\"", key);
+    size_t count = 0;
+    while (stat_at(count))
+        count++;
+    char hint[96];
+    near_miss(key, stat_name_at, count, hint, sizeof hint);
+    return fail(NULL, MPS2P_ERR_UNKNOWN_KEY, "unknown statistic \"%s\"%s", key, hint);
 }

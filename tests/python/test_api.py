@@ -131,6 +131,19 @@ def test_open_results_gives_numpy_arrays_and_str_metadata(tmp_path):
         mps2p.open_results(None)
 
 
+def test_open_results_says_what_is_wrong_with_the_file(tmp_path):
+    with pytest.raises(mps2p.FileError, match='"%s": no such file' % (tmp_path / "none.h5")):
+        mps2p.open_results(tmp_path / "none.h5")
+    with pytest.raises(mps2p.FileError, match="is a directory"):
+        mps2p.open_results(tmp_path)
+    xdmf = tmp_path / "results.xdmf"
+    xdmf.write_text("<Xdmf/>")
+    with pytest.raises(mps2p.FileError, match="not an HDF5 file.*open results.h5"):
+        mps2p.open_results(xdmf)
+    with pytest.raises(OSError):  # FileError is an OSError, as h5py's were
+        mps2p.open_results(tmp_path / "none.h5")
+
+
 def test_open_results_refuses_a_checkpoint(tmp_path):
     with dam_break() as scene, mps2p.Solver(scene) as solver:
         solver.save_checkpoint(tmp_path / "c.chk")

@@ -176,6 +176,37 @@ def test_progress_callback_can_stop_and_exceptions_come_through():
         assert solver.step_count == 4  # the step before the callback ran
 
 
+class Interrupted(Exception):
+    pass
+
+
+@pytest.mark.parametrize("progress", [None, lambda s: False])
+def test_a_signal_stops_advance_to_at_the_next_step(progress):
+    """A signal handler's exception (as Ctrl-C's KeyboardInterrupt) comes out
+    of advance_to at the next step, with or without a progress callback, and
+    the solver goes on from there (before: without a callback only when the
+    run ended; with one, lost when it arrived before the callback's try)."""
+    import signal
+
+    def interrupt(_signum, _frame):
+        raise Interrupted()
+
+    previous = signal.signal(signal.SIGALRM, interrupt)
+    try:
+        with small_dam_break() as scene, mps2p.Solver(scene) as solver:
+            signal.setitimer(signal.ITIMER_REAL, 0.3)
+            with pytest.raises(Interrupted):
+                solver.advance_to(1000.0, progress=progress)  # hours of steps
+            signal.setitimer(signal.ITIMER_REAL, 0.0)
+            assert 0.0 < solver.time < 1000.0
+            steps = solver.step_count
+            solver.step()
+            assert solver.step_count == steps + 1
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        signal.signal(signal.SIGALRM, previous)
+
+
 def test_particles_from_arrays_match_a_box():
     l0 = 0.02
     x, y = np.meshgrid((np.arange(8) + 0.5) * l0, (np.arange(15) + 0.5) * l0)

@@ -119,12 +119,27 @@ def test_examples_are_listed_and_run_by_name(tmp_path):
     assert unknown.stderr.startswith("mps2p: no_such_scene: neither a scene file nor an "
                                      "example scene (examples: ")
     assert "dam_break" in unknown.stderr and "mps2p examples" in unknown.stderr
+    absent = mps2p("run", "no_such_scene.toml", cwd=tmp_path)
+    assert absent.returncode == 2 and absent.stderr.startswith(
+        "mps2p: no_such_scene.toml: no such file, and not an example scene"), absent.stderr
     missing = mps2p("run", os.path.join("no_folder", "scene.toml"), cwd=tmp_path)
     assert missing.returncode == 2 and "scene.toml" in missing.stderr
     # a file name that is not here but is an example's: run, and said so
     named = mps2p("check", "hydrostatic.toml", cwd=tmp_path)
     assert named.returncode == 0 and json.loads(named.stdout)["name"] == "hydrostatic"
     assert "hydrostatic.toml: no such file here; the example scene of that name" in named.stderr
+
+
+def test_a_closed_pipe_ends_the_command_quietly():
+    env = dict(os.environ)
+    env["PYTHONPATH"] = PACKAGE_DIR + os.pathsep + env.get("PYTHONPATH", "")
+    # true reads nothing and exits long before Python has started: every write fails
+    result = subprocess.run("%s -m mps2p info | true" % sys.executable, shell=True,
+                            capture_output=True, text=True, env=env)
+    assert result.stderr == "", result.stderr
+    first = subprocess.run("%s -m mps2p info | head -n 1" % sys.executable, shell=True,
+                           capture_output=True, text=True, env=env)
+    assert first.stdout.startswith("libmps2p ") and first.stderr == "", first
 
 
 def test_version():

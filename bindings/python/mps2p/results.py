@@ -80,6 +80,25 @@ def _value(value):
     return value
 
 
+def _open_hdf5(h5py, path):
+    """h5py.File(path, "r"), with HDF5's messages turned into a FileError
+    that names the file and says what to open instead."""
+    from .errors import FileError
+    if not os.path.exists(path):
+        raise FileError('results file "%s": no such file' % path)
+    if os.path.isdir(path):
+        raise FileError('results file "%s" is a directory (a run\'s results are its '
+                        'results.h5)' % path)
+    if not h5py.is_hdf5(path):
+        hint = (" (the .xdmf only describes results.h5 for ParaView: open results.h5)"
+                if path.endswith(".xdmf") else "")
+        raise FileError('results file "%s" is not an HDF5 file%s' % (path, hint))
+    try:
+        return h5py.File(path, "r")
+    except OSError as e:
+        raise FileError('results file "%s": cannot read it: %s' % (path, e)) from e
+
+
 class ResultsFile:
     """A results file opened for reading (open_results(path)); metadata as
     str, int and float, fields as numpy arrays. Close it, or use `with`.
@@ -99,7 +118,7 @@ class ResultsFile:
         import h5py
         path = os.fsdecode(encode_path(path))
         self.path = path
-        self._file = h5py.File(path, "r")
+        self._file = _open_hdf5(h5py, path)
         try:
             self._read_metadata()
         except Exception:
@@ -156,8 +175,9 @@ class ResultsFile:
 def open_results(path):
     """Opens a results file written by Results or `mps2p run` (results.h5)
     for reading: a ResultsFile with str metadata and numpy arrays. Needs
-    h5py. ValueError for an HDF5 file that is not a results file, OSError
-    for one that cannot be read."""
+    h5py. ValueError for an HDF5 file that is not a results file,
+    mps2p.FileError (an OSError) for a missing file, one that is not HDF5 or
+    one that cannot be read."""
     return ResultsFile(path)
 
 

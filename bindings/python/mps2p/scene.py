@@ -33,6 +33,15 @@ def param_info():
     return info
 
 
+def _kind_of_key(key):
+    """"parameter", "option" (effects included) or None for an unknown key."""
+    if key in param_info():
+        return "parameter"
+    if key in option_info():
+        return "option"
+    return None
+
+
 def option_info():
     """{key: (default, choices, description)} for every option (named choice),
     in the C library's order; choices is a tuple of str."""
@@ -197,9 +206,18 @@ class Scene(Owned):
             settings = dict(settings)
             self.set_option("scheme", settings.pop("scheme"))
         for key, value in settings.items():
+            kind = _kind_of_key(key)
             if isinstance(value, str):
+                if kind == "parameter":
+                    raise errors.InvalidArgumentError(
+                        '"%s" is a numeric parameter: give a number (%s=%s), not the '
+                        'string %r' % (key, key, value, value))
                 self.set_option(key, value)
             else:
+                if kind == "option":
+                    raise errors.InvalidArgumentError(
+                        '"%s" is an option: give one of its choices as a string (%s)'
+                        % (key, ", ".join(option_info()[key][1])))
                 self.set_param(key, value)
 
     def set_param(self, key, value):

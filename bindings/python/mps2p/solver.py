@@ -40,6 +40,10 @@ class State(Owned):
         self._own(handle, lib.mps2p_state_destroy)
 
 
+def _never(_solver):
+    return False
+
+
 class Solver(Owned):
     """Wraps mps2p_solver. Solver(scene) copies the scene: the scene may be
     changed or closed afterwards. Free it with close(), a `with` block, or
@@ -100,10 +104,12 @@ class Solver(Owned):
         it. An exception raised by progress stops the run and is re-raised
         here; DivergedError and SolveError as in step()."""
         end = real(end_time, "end time")
-        handle = self._changing("advance_to()")
+        self._changing("advance_to()")
         if progress is None or progress is False:
-            return check(lib.mps2p_solver_advance_to(handle, end, ffi.NULL, ffi.NULL)) \
-                == lib.MPS2P_OK
+            # a callback all the same: Python runs its signal handlers only
+            # while Python code runs, so Ctrl-C (KeyboardInterrupt) stops the
+            # run at the next step instead of after it
+            return self._advance_with(end, _never)
         if progress is True:
             from .progress import bar_for
             with bar_for(self, end) as bar:
@@ -115,7 +121,13 @@ class Solver(Owned):
     def _advance_with(self, end, progress):
         failure = []
 
-        @ffi.callback("int(const mps2p_solver *, void *)")
+        def stop_on(_type, value, _traceback):
+            # an exception the callback did not catch itself: a signal's
+            # (KeyboardInterrupt) can arrive before its try block is entered
+            failure.append(value)
+            return 1
+
+        @ffi.callback("int(const mps2p_solver *, void *)", onerror=stop_on)
         def callback(_solver, _user):
             try:
                 return 1 if progress(self) else 0

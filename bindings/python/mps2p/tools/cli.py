@@ -19,6 +19,7 @@ interrupted.
 import argparse
 import json
 import math
+import os
 import sys
 import warnings
 
@@ -144,6 +145,11 @@ def main(argv=None):
         for line in str(e).splitlines() or [""]:  # a scene file's problems, one a line
             print("mps2p: %s" % line, file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        # the reader stopped reading (mps2p info | head): stop quietly, and
+        # keep Python from failing again on the closed stdout at exit
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141
     except OSError as e:  # a file the command writes itself
         print("mps2p: %s%s" % (e.strerror or e, ": %s" % e.filename if e.filename else ""),
               file=sys.stderr)

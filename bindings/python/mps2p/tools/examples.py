@@ -30,9 +30,10 @@ def resolve_scene(argument):
     try:
         return example_path(argument)
     except KeyError:
-        raise KeyError("%s: neither a scene file nor an example scene (examples: %s; "
-                       "'mps2p examples' describes them)"
-                       % (argument, ", ".join(example_names()))) from None
+        what = ("no such file, and not an example scene" if argument.endswith(".toml")
+                else "neither a scene file nor an example scene")
+        raise KeyError("%s: %s (examples: %s; 'mps2p examples' describes them)"
+                       % (argument, what, ", ".join(example_names()))) from None
 
 
 __all__ = ["example_names", "example_path", "resolve_scene", "SCENES"]

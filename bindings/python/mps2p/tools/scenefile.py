@@ -264,9 +264,11 @@ def check(path, data):
         for key, value in table.items():
             want_str = section != "parameters"
             if want_str and not isinstance(value, str):
-                fail("%s.%s" % (section, key), "must be a string, got %r" % (value,))
+                fail("%s.%s" % (section, key), "must be a string, got %r%s" % (
+                    value, _elsewhere(key, "parameter")))
             if not want_str and not _is_number(value):
-                fail("%s.%s" % (section, key), "must be a number, got %r" % (value,))
+                fail("%s.%s" % (section, key), "must be a number, got %r%s" % (
+                    value, _elsewhere(key, "option")))
     for section, (fields, required) in SCHEMA.items():
         if section not in data:
             continue
@@ -384,6 +386,20 @@ def _check_probes(fail, probes, fluid_names):
             fail(label + ".stat", "must be one of %s, got %r" % (", ".join(STAT_KEYS), p["stat"]))
         if kind == "front" and "below" in p and not p["below"] > 0:
             fail(label + ".below", "must be > 0, got %r" % p["below"])
+
+
+def _elsewhere(key, kind):
+    """A hint when `key` is a known parameter (kind "parameter") or option
+    ("option") of the library, which belongs in the other table."""
+    from .. import scene
+    try:
+        known = scene.param_info() if kind == "parameter" else scene.option_info()
+    except Exception:  # no library to ask: no hint
+        return ""
+    if key not in known:
+        return ""
+    return (" (%s is a parameter: put it under [parameters])" % key if kind == "parameter"
+            else " (%s is an option: put it under [options], as a string)" % key)
 
 
 def _is_number(value):
