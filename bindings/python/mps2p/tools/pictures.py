@@ -139,7 +139,16 @@ def velocity_picture(path, snapshots, title, fluid_names, fluid, stride=1):
     if not snapshots:
         return
     fig, axes, lo, hi, pad = _panels(snapshots)
-    for ax, snap in zip(axes.flat, snapshots):
+
+    def speeds(snap):
+        mine = np.flatnonzero((snap["kinds"] == 0) & (snap["fluid_ids"] == fluid))[::stride]
+        return np.hypot(snap["velocities"][mine, 0], snap["velocities"][mine, 1])
+
+    # each panel on its own scale, but none below a hundredth of the largest:
+    # a fluid at rest (t = 0) shows no arrows rather than its rounding noise
+    tops = [float(np.percentile(v, 99)) if v.size else 0.0 for v in map(speeds, snapshots)]
+    floor = max(0.01 * max(tops), 1e-9)
+    for ax, snap, panel_top in zip(axes.flat, snapshots, tops):
         xy, uv, kinds, ids = (snap["positions"], snap["velocities"], snap["kinds"],
                               snap["fluid_ids"])
         _walls(ax, xy, kinds)
@@ -150,7 +159,7 @@ def velocity_picture(path, snapshots, title, fluid_names, fluid, stride=1):
                            c=PHASE_COLOURS[k % len(PHASE_COLOURS)])
         mine = np.flatnonzero((kinds == 0) & (ids == fluid))[::stride]
         speed = np.hypot(uv[mine, 0], uv[mine, 1])
-        top = max(float(np.percentile(speed, 99)) if speed.size else 0.0, 1e-9)
+        top = max(panel_top, floor)
         quiver = ax.quiver(xy[mine, 0], xy[mine, 1], uv[mine, 0], uv[mine, 1], speed,
                            cmap="plasma", scale_units="xy", angles="xy",
                            scale=top / (0.03 * (hi - lo).max()), width=0.002,
