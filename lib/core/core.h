@@ -198,12 +198,12 @@ typedef struct params {
 } params;
 
 void params_set_defaults(params *p);
-/* Validates and sets; writes a reason into message on failure. */
 /* " (did you mean \"x\"?)" into out for the nearest of count names given by
  * name_at, when it is a near miss (a third of the key's letters, at least
  * two, at most); "" otherwise. */
 void near_miss(const char *key, const char *(*name_at)(size_t), size_t count, char *out,
                size_t size);
+/* Validates and sets; writes a reason into message on failure. */
 int params_set(params *p, const char *key, double value, char *message, size_t size);
 int params_get(const params *p, const char *key, double *value);
 int params_set_option(params *p, const char *key, const char *value,

@@ -213,7 +213,7 @@ static size_t edit_distance(const char *a, const char *b)
 }
 
 void near_miss(const char *key, const char *(*name_at)(size_t), size_t count, char *out,
-                      size_t size)
+               size_t size)
 {
     const char *nearest = NULL;
     size_t best = (size_t)-1;

@@ -140,7 +140,7 @@ def test_open_results_says_what_is_wrong_with_the_file(tmp_path):
     xdmf.write_text("<Xdmf/>")
     with pytest.raises(mps2p.FileError, match="not an HDF5 file.*open results.h5"):
         mps2p.open_results(xdmf)
-    with pytest.raises(OSError):  # FileError is an OSError, as h5py's were
+    with pytest.raises(FileNotFoundError):  # as h5py's was
         mps2p.open_results(tmp_path / "none.h5")
 
 

@@ -6,6 +6,7 @@ import os
 import numpy as np
 
 from ._core import check, encode, encode_path, real
+from .errors import FileError
 from ._native import ffi, lib
 
 
@@ -80,21 +81,26 @@ def _value(value):
     return value
 
 
+class _MissingFile(FileError, FileNotFoundError):
+    """A FileError that is also what open() raises for a missing file."""
+
+
 def _open_hdf5(h5py, path):
     """h5py.File(path, "r"), with HDF5's messages turned into a FileError
     that names the file and says what to open instead."""
-    from .errors import FileError
     if not os.path.exists(path):
-        raise FileError('results file "%s": no such file' % path)
+        raise _MissingFile('results file "%s": no such file' % path)
     if os.path.isdir(path):
         raise FileError('results file "%s" is a directory (a run\'s results are its '
                         'results.h5)' % path)
-    if not h5py.is_hdf5(path):
-        hint = (" (the .xdmf only describes results.h5 for ParaView: open results.h5)"
-                if path.endswith(".xdmf") else "")
-        raise FileError('results file "%s" is not an HDF5 file%s' % (path, hint))
     try:
+        if not h5py.is_hdf5(path):
+            hint = (" (the .xdmf only describes results.h5 for ParaView: open results.h5)"
+                    if path.endswith(".xdmf") else "")
+            raise FileError('results file "%s" is not an HDF5 file%s' % (path, hint))
         return h5py.File(path, "r")
+    except FileError:
+        raise
     except OSError as e:
         raise FileError('results file "%s": cannot read it: %s' % (path, e)) from e
 
@@ -176,8 +182,8 @@ def open_results(path):
     """Opens a results file written by Results or `mps2p run` (results.h5)
     for reading: a ResultsFile with str metadata and numpy arrays. Needs
     h5py. ValueError for an HDF5 file that is not a results file,
-    mps2p.FileError (an OSError) for a missing file, one that is not HDF5 or
-    one that cannot be read."""
+    mps2p.FileError (an OSError; for a missing file also a FileNotFoundError)
+    for a missing file, one that is not HDF5 or one that cannot be read."""
     return ResultsFile(path)
 
 

@@ -33,12 +33,13 @@ def param_info():
     return info
 
 
-def _kind_of_key(key):
-    """"parameter", "option" (effects included) or None for an unknown key."""
-    if key in param_info():
-        return "parameter"
-    if key in option_info():
-        return "option"
+def _wrong_kind(key, value):
+    """Why a setting unknown as given is known as the other kind, or None."""
+    if isinstance(value, str) and key in param_info():
+        return "%s is a numeric parameter: give it a number, not the string %r" % (key, value)
+    if not isinstance(value, str) and key in option_info():
+        return "%s is an option: give it one of its choices as a string (%s)" % (
+            key, ", ".join(option_info()[key][1]))
     return None
 
 
@@ -206,19 +207,17 @@ class Scene(Owned):
             settings = dict(settings)
             self.set_option("scheme", settings.pop("scheme"))
         for key, value in settings.items():
-            kind = _kind_of_key(key)
-            if isinstance(value, str):
-                if kind == "parameter":
-                    raise errors.InvalidArgumentError(
-                        '"%s" is a numeric parameter: give a number (%s=%s), not the '
-                        'string %r' % (key, key, value, value))
-                self.set_option(key, value)
-            else:
-                if kind == "option":
-                    raise errors.InvalidArgumentError(
-                        '"%s" is an option: give one of its choices as a string (%s)'
-                        % (key, ", ".join(option_info()[key][1])))
-                self.set_param(key, value)
+            try:
+                if isinstance(value, str):
+                    self.set_option(key, value)
+                else:
+                    self.set_param(key, value)
+            except errors.UnknownKeyError as e:
+                hint = _wrong_kind(key, value)
+                if hint:
+                    raise errors.UnknownKeyError("%s: %s" % (e, hint), e.status,
+                                                 e.status_name) from None
+                raise
 
     def set_param(self, key, value):
         """Sets the numeric parameter `key` (param_info() lists them with

@@ -2,6 +2,8 @@
 arrays that are COPIES: each call copies the solver's current state into a
 new array that the caller owns; stepping never changes an array already
 returned, and changing the array never changes the solver."""
+import threading
+
 import numpy as np
 
 from . import errors
@@ -104,8 +106,13 @@ class Solver(Owned):
         it. An exception raised by progress stops the run and is re-raised
         here; DivergedError and SolveError as in step()."""
         end = real(end_time, "end time")
-        self._changing("advance_to()")
+        handle = self._changing("advance_to()")
         if progress is None or progress is False:
+            if threading.current_thread() is not threading.main_thread():
+                # signals reach the main thread only; a callback here would
+                # only take the interpreter lock back after every step
+                return check(lib.mps2p_solver_advance_to(handle, end, ffi.NULL, ffi.NULL)) \
+                    == lib.MPS2P_OK
             # a callback all the same: Python runs its signal handlers only
             # while Python code runs, so Ctrl-C (KeyboardInterrupt) stops the
             # run at the next step instead of after it
@@ -135,8 +142,8 @@ class Solver(Owned):
                 failure.append(e)
                 return 1
 
-        self._busy = True
         try:
+            self._busy = True  # inside: an interrupt here must not leave it set
             status = lib.mps2p_solver_advance_to(self.handle, end, callback, ffi.NULL)
         finally:
             self._busy = False

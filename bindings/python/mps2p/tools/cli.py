@@ -112,6 +112,22 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
 
 
 def main(argv=None):
+    """The command; returns its exit status."""
+    try:
+        try:
+            status = _main(argv)
+        except SystemExit as e:  # argparse's --help, --version and usage errors
+            status = e.code
+        sys.stdout.flush()  # here, not at exit, where a closed pipe could not be caught
+        return status
+    except BrokenPipeError:
+        # the reader stopped reading (mps2p info | head): stop quietly, and
+        # keep Python from failing again on the closed stdout at exit
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141
+
+
+def _main(argv):
     args = parser().parse_args(argv)
     warnings.showwarning = _show_warning
     if getattr(args, "scene", None):
@@ -146,10 +162,7 @@ def main(argv=None):
             print("mps2p: %s" % line, file=sys.stderr)
         return 2
     except BrokenPipeError:
-        # the reader stopped reading (mps2p info | head): stop quietly, and
-        # keep Python from failing again on the closed stdout at exit
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return 141
+        raise  # main's
     except OSError as e:  # a file the command writes itself
         print("mps2p: %s%s" % (e.strerror or e, ": %s" % e.filename if e.filename else ""),
               file=sys.stderr)

@@ -380,7 +380,10 @@ def tip_into_wall(air=True, speed=2.5, until=0.15, path=None, depth=3, ramp=0.0)
     path = path or scene_path("still_water_under_air")
     sf = scenefile.load(path)
     l0 = sf.l0
-    x0, x1, depth = 0.1, 0.25, depth * l0
+    rows = int(depth)
+    if rows != depth or rows < 1:
+        raise ValueError("depth is a whole number of spacings, got %r" % (depth,))
+    x0, x1, depth = 0.1, 0.25, rows * l0
     data = dict(sf.data)
     data["fluid_box"] = ([{"fluid": "air", "box": [0.0, depth, 0.3, 0.3]},
                           {"fluid": "air", "box": [0.0, 0.0, x0, depth]},
@@ -390,7 +393,6 @@ def tip_into_wall(air=True, speed=2.5, until=0.15, path=None, depth=3, ramp=0.0)
     data["tank"] = [{"box": [0.0, 0.0, 0.3, 0.6], "open_top": True}]
     sf = scenefile.SceneFile(path, sf.text, data)
     n = int(round((x1 - x0) / l0))
-    rows = int(round(depth / l0))
     slab = [(x0 + (i + 0.5) * l0, (j + 0.5) * l0) for i in range(n) for j in range(rows)]
     water_id = sf.fluids.index("water")
     start = 0.0 if ramp > 0.0 else speed
@@ -414,7 +416,8 @@ def tip_into_wall(air=True, speed=2.5, until=0.15, path=None, depth=3, ramp=0.0)
                 if pushing and s.time >= ramp - 1e-12:
                     s.set_body_forces(None)
                     pushing = False
-                s.advance_to(ramp if pushing else until, progress=lambda _: True)  # one step
+                s.advance_to(min(ramp, until) if pushing else until,
+                             progress=lambda _: True)  # one step
                 r, u = s.positions(), s.velocities()
                 if result["contact_at"] is None and r[water, 0].max() >= 0.3 - l0:
                     result["contact_at"] = round(s.time, 6)
