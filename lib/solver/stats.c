@@ -139,6 +139,7 @@ static const stat_entry solver_stats[] = {
                        "(kind MPS2P_KIND_OUT; parameter out_limit)"),
 };
 #define SOLVER_STATS (sizeof solver_stats / sizeof solver_stats[0])
+#define STAT_COUNT (SOLVER_STATS + two_phase_stat_count)
 
 static const stat_entry *stat_at(size_t index)
 {
@@ -153,7 +154,7 @@ int mps2p_stat_count(size_t *count)
     error_clear();
     if (!count)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_stat_count: count is NULL");
-    *count = SOLVER_STATS + two_phase_stat_count;
+    *count = STAT_COUNT;
     return MPS2P_OK;
 }
 
@@ -163,7 +164,7 @@ int mps2p_stat_info(size_t index, const char **key, const char **description, in
     const stat_entry *e = stat_at(index);
     if (!e)
         return fail(NULL, MPS2P_ERR_INVALID, "statistic index %zu is past the last (%zu)",
-                    index, SOLVER_STATS + two_phase_stat_count - 1);
+                    index, STAT_COUNT - 1);
     if (key)
         *key = e->name;
     if (description)
@@ -192,10 +193,7 @@ int mps2p_solver_get_stat(const mps2p_solver *s, const char *key, double *value)
             *value = stat_at(k)->value(s);
             return MPS2P_OK;
         }
-    size_t count = 0;
-    while (stat_at(count))
-        count++;
     char hint[96];
-    near_miss(key, stat_name_at, count, hint, sizeof hint);
+    near_miss(key, stat_name_at, STAT_COUNT, hint, sizeof hint);
     return fail(NULL, MPS2P_ERR_UNKNOWN_KEY, "unknown statistic \"%s\"%s", key, hint);
 }

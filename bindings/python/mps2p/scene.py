@@ -33,11 +33,21 @@ def param_info():
     return info
 
 
+def setting_kind(key):
+    """"parameter" or "option" (effects included) for a known setting's key,
+    else None (Scene.set's and the scene files' hints for a key given as the
+    wrong kind)."""
+    if key in param_info():
+        return "parameter"
+    return "option" if key in option_info() else None
+
+
 def _wrong_kind(key, value):
     """Why a setting unknown as given is known as the other kind, or None."""
-    if isinstance(value, str) and key in param_info():
+    kind = setting_kind(key)
+    if isinstance(value, str) and kind == "parameter":
         return "%s is a numeric parameter: give it a number, not the string %r" % (key, value)
-    if not isinstance(value, str) and key in option_info():
+    if not isinstance(value, str) and kind == "option":
         return "%s is an option: give it one of its choices as a string (%s)" % (
             key, ", ".join(option_info()[key][1]))
     return None

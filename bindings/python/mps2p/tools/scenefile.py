@@ -391,12 +391,11 @@ def _check_probes(fail, probes, fluid_names):
 def _elsewhere(key, kind):
     """A hint when `key` is a known parameter (kind "parameter") or option
     ("option") of the library, which belongs in the other table."""
-    from .. import scene
+    from ..scene import setting_kind
     try:
-        known = scene.param_info() if kind == "parameter" else scene.option_info()
+        if setting_kind(key) != kind:
+            return ""
     except Exception:  # no library to ask: no hint
-        return ""
-    if key not in known:
         return ""
     return (" (%s is a parameter: put it under [parameters])" % key if kind == "parameter"
             else " (%s is an option: put it under [options], as a string)" % key)
