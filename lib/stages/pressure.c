@@ -104,42 +104,105 @@ int pressure_solve(mps2p_solver *s, double dt)
     return status;
 }
 
-int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
+/* Row i (unknown number row) of the system, its entries from m->column +
+ * first on, in neighbour order with the diagonal in its sorted place; the
+ * right-hand side and CG's warm start too. Returns the end of the row.
+ * Entries: the diagonal and the unknown neighbours within re (every one in
+ * the list with ppe_pattern neighbour_list, zero beyond re).
+ * Hydrostatic ghosts (option wall_ghosts; the systems of the water): a
+ * dummy, or a wall on the free surface (a dry wall), seen from row i takes
+ * p_i + rho_i g . r_ij, so its Laplacian term w (p_j - p_i) is the known
+ * w rho_i g . r_ij: it goes to the right-hand side and the matrix stays
+ * symmetric. Koshizuka and Oka's dummies are left out of the Laplacian, and
+ * a dry wall is p = 0: both bend the hydrostatic field near walls, which
+ * still water measures (docs/validation.md). */
+static int fill_row(mps2p_solver *s, const ppe_system *sys, double dt, size_t i, int row,
+                    int first)
 {
-    /* A window's step shorter than half the chosen dt gets the pressure of a
-     * step of half the chosen dt: the source (and the compressibility term)
-     * scale with 1/dt^2, and a tiny step would otherwise press the whole
-     * density error out in no time, with a pressure 1/dt^2 too large. */
-    dt = fmax(dt, s->ppe_min_dt);
     const double re = s->params.re_laplacian * s->l0;
     const double c = 2.0 * 2 / (s->lambda * s->n0_laplacian);
+    const int whole_list = s->params.ppe_pattern == PPE_PATTERN_NEIGHBOUR_LIST;
+    const int ghosts = sys->hydrostatic_ghosts;
+    const double gx = s->params.gravity[0], gy = s->params.gravity[1];
     const neighbour_list *nl = &s->neighbours;
     const double *position = s->state.position;
-    double *pressure = sys->pressure;
-
-    /* Number the unknowns in particle order. */
-    long unknowns = 0;
-    for (size_t i = 0; i < s->count; i++)
-        s->unknown_of[i] = (takes_part(s, sys, i) && !sys->surface[i]) ? (int)unknowns++ : -1;
-    sys->unknowns = (size_t)unknowns;
-    sys->iterations = 0;
-    sys->residual = 0.0;
-    if (unknowns == 0)
-        return MPS2P_OK;
-
-    if (unknowns >= INT_MAX)
-        return fail(s->error, MPS2P_ERR_NOMEM,
-                    "pressure matrix with %ld rows is beyond the int index range", unknowns);
-    /* pattern from the neighbour list: every unknown neighbour, zero beyond re */
-    const int whole_list = s->params.ppe_pattern == PPE_PATTERN_NEIGHBOUR_LIST;
-    if (grow_matrix(&s->matrix, (int)unknowns, 0) != MPS2P_OK)
-        return fail(s->error, MPS2P_ERR_NOMEM,
-                    "out of memory for the pressure matrix (%ld rows)", unknowns);
     sparse_matrix *m = &s->matrix;
+    int next = first;
+    int diagonal_at = -1;
+    double ghost_sum = 0.0;
+    double diagonal = sys->density[i] * s->params.compressibility / (dt * dt);
+    for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
+        size_t j = nl->index[k];
+        const int ghost = ghosts && is_hydrostatic_ghost(s, sys->surface, j);
+        if (!ghost && !takes_part(s, sys, j))
+            continue;
+        double dx = position[2 * j] - position[2 * i];
+        double dy = position[2 * j + 1] - position[2 * i + 1];
+        int in_range = dx * dx + dy * dy < re * re;
+        if (ghost) {
+            if (in_range)
+                ghost_sum += c * kernel_weight(sqrt(dx * dx + dy * dy), re) *
+                             sys->density[i] * (gx * dx + gy * dy);
+            continue;
+        }
+        if (!in_range && !(whole_list && s->unknown_of[j] >= 0))
+            continue;
+        double w = in_range ? kernel_weight(sqrt(dx * dx + dy * dy), re) : 0.0;
+        diagonal += c * w;
+        if (s->unknown_of[j] < 0)
+            continue;
+        if (diagonal_at < 0 && j > i)
+            diagonal_at = next++; /* keep columns sorted */
+        m->column[next] = (int)s->unknown_of[j];
+        m->value[next] = -c * w;
+        next++;
+    }
+    if (diagonal_at < 0)
+        diagonal_at = next++;
+    m->column[diagonal_at] = row;
+    m->value[diagonal_at] = diagonal;
+    s->rhs[row] = source_term(s, sys, i, dt);
+    if (ghosts)
+        s->rhs[row] += ghost_sum;
+    s->solution[row] = sys->pressure[i]; /* warm start for CG */
+    return next;
+}
 
-    /* Count the pattern, a row per thread at a time: the diagonal plus unknown
-     * neighbours in range (or all of them, whole_list), into row_start[row +
-     * 1]; then its running sum. */
+/* One thread: each row is filled where the last one ended, room made from
+ * the bound of its neighbour list, with no counting pass; the same matrix as
+ * two passes. */
+static int assemble_in_one_pass(mps2p_solver *s, const ppe_system *sys, double dt)
+{
+    const neighbour_list *nl = &s->neighbours;
+    sparse_matrix *m = &s->matrix;
+    int next = 0;
+    for (size_t i = 0; i < s->count; i++) {
+        int row = s->unknown_of[i];
+        if (row < 0)
+            continue;
+        size_t bound = (size_t)next + (nl->start[i + 1] - nl->start[i]) + 1;
+        if (bound > (size_t)INT_MAX)
+            return fail(s->error, MPS2P_ERR_NOMEM,
+                        "pressure matrix with %zu entries is beyond the int index range", bound);
+        if (grow_matrix(m, m->rows, bound) != MPS2P_OK)
+            return fail(s->error, MPS2P_ERR_NOMEM,
+                        "out of memory for the pressure matrix (%zu entries)", bound);
+        m->row_start[row] = next;
+        next = fill_row(s, sys, dt, i, row, next);
+    }
+    m->row_start[m->rows] = next;
+    return MPS2P_OK;
+}
+
+/* Several threads: the rows' lengths counted, a row per thread at a time,
+ * then each row filled into its own slots. */
+static int assemble_in_two_passes(mps2p_solver *s, const ppe_system *sys, double dt)
+{
+    const double re = s->params.re_laplacian * s->l0;
+    const int whole_list = s->params.ppe_pattern == PPE_PATTERN_NEIGHBOUR_LIST;
+    const neighbour_list *nl = &s->neighbours;
+    const double *position = s->state.position;
+    sparse_matrix *m = &s->matrix;
     PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         if (s->unknown_of[i] < 0)
@@ -160,73 +223,52 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
     });
     size_t entries = 0;
     m->row_start[0] = 0;
-    for (long row = 0; row < unknowns; row++) {
+    for (int row = 0; row < m->rows; row++) {
         entries += (size_t)m->row_start[row + 1];
         m->row_start[row + 1] = entries > (size_t)INT_MAX ? INT_MAX : (int)entries;
     }
     if (entries > (size_t)INT_MAX)
         return fail(s->error, MPS2P_ERR_NOMEM,
                     "pressure matrix with %zu entries is beyond the int index range", entries);
-    if (grow_matrix(&s->matrix, (int)unknowns, entries) != MPS2P_OK)
+    if (grow_matrix(m, m->rows, entries) != MPS2P_OK)
         return fail(s->error, MPS2P_ERR_NOMEM,
                     "out of memory for the pressure matrix (%zu entries)", entries);
-
-    /* Hydrostatic ghosts (option wall_ghosts; the systems of the water): a dummy, or a
-     * wall on the free surface (a dry wall), seen from row i takes p_i +
-     * rho_i g . r_ij, so its Laplacian term w (p_j - p_i) is the known
-     * w rho_i g . r_ij: it goes to the right-hand side and the matrix stays
-     * symmetric. Koshizuka and Oka's dummies are left out of the Laplacian, and
-     * a dry wall is p = 0: both bend the hydrostatic field near walls, which
-     * still water measures (docs/validation.md). */
-    const int ghosts = sys->hydrostatic_ghosts;
-    const double gx = s->params.gravity[0], gy = s->params.gravity[1];
-    /* Fill: each row into its own slots, its entries in neighbour order. */
-    m->rows = (int)unknowns;
     PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
-        long row = s->unknown_of[i];
-        if (row < 0)
-            continue;
-        int next = m->row_start[row];
-        int diagonal_at = -1;
-        double ghost_sum = 0.0;
-        double diagonal = sys->density[i] * s->params.compressibility / (dt * dt);
-        for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
-            size_t j = nl->index[k];
-            const int ghost = ghosts && is_hydrostatic_ghost(s, sys->surface, j);
-            if (!ghost && !takes_part(s, sys, j))
-                continue;
-            double dx = position[2 * j] - position[2 * i];
-            double dy = position[2 * j + 1] - position[2 * i + 1];
-            int in_range = dx * dx + dy * dy < re * re;
-            if (ghost) {
-                if (in_range)
-                    ghost_sum += c * kernel_weight(sqrt(dx * dx + dy * dy), re) *
-                                 sys->density[i] * (gx * dx + gy * dy);
-                continue;
-            }
-            if (!in_range && !(whole_list && s->unknown_of[j] >= 0))
-                continue;
-            double w = in_range ? kernel_weight(sqrt(dx * dx + dy * dy), re) : 0.0;
-            diagonal += c * w;
-            if (s->unknown_of[j] < 0)
-                continue;
-            if (diagonal_at < 0 && j > i)
-                diagonal_at = next++; /* keep columns sorted */
-            m->column[next] = (int)s->unknown_of[j];
-            m->value[next] = -c * w;
-            next++;
-        }
-        if (diagonal_at < 0)
-            diagonal_at = next++;
-        m->column[diagonal_at] = (int)row;
-        m->value[diagonal_at] = diagonal;
-        s->rhs[row] = source_term(s, sys, i, dt);
-        if (ghosts)
-            s->rhs[row] += ghost_sum;
-        s->solution[row] = pressure[i]; /* warm start for CG */
+        int row = s->unknown_of[i];
+        if (row >= 0)
+            fill_row(s, sys, dt, i, row, m->row_start[row]);
     });
     return MPS2P_OK;
+}
+
+int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
+{
+    /* A window's step shorter than half the chosen dt gets the pressure of a
+     * step of half the chosen dt: the source (and the compressibility term)
+     * scale with 1/dt^2, and a tiny step would otherwise press the whole
+     * density error out in no time, with a pressure 1/dt^2 too large. */
+    dt = fmax(dt, s->ppe_min_dt);
+
+    /* Number the unknowns in particle order. */
+    long unknowns = 0;
+    for (size_t i = 0; i < s->count; i++)
+        s->unknown_of[i] = (takes_part(s, sys, i) && !sys->surface[i]) ? (int)unknowns++ : -1;
+    sys->unknowns = (size_t)unknowns;
+    sys->iterations = 0;
+    sys->residual = 0.0;
+    if (unknowns == 0)
+        return MPS2P_OK;
+
+    if (unknowns >= INT_MAX)
+        return fail(s->error, MPS2P_ERR_NOMEM,
+                    "pressure matrix with %ld rows is beyond the int index range", unknowns);
+    if (grow_matrix(&s->matrix, (int)unknowns, 0) != MPS2P_OK)
+        return fail(s->error, MPS2P_ERR_NOMEM,
+                    "out of memory for the pressure matrix (%ld rows)", unknowns);
+    s->matrix.rows = (int)unknowns;
+    return team_size(s->params.threads) == 1 ? assemble_in_one_pass(s, sys, dt)
+                                             : assemble_in_two_passes(s, sys, dt);
 }
 
 int pressure_solve_system(mps2p_solver *s, ppe_system *sys)
