@@ -19,7 +19,7 @@ void number_density_compute(mps2p_solver *s, double *out)
             size_t j = nl.index[k];
             double dx = position[2 * j] - position[2 * i];
             double dy = position[2 * j + 1] - position[2 * i + 1];
-            n += kernel_weight(sqrt(dx * dx + dy * dy), re);
+            n += kernel_weight_squared(dx * dx + dy * dy, re);
         }
         out[i] = n;
     });

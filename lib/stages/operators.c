@@ -146,7 +146,7 @@ void laplacian_masked_at(const mps2p_solver *s, size_t i, const double *field,
             continue;
         double dx = position[2 * j] - position[2 * i];
         double dy = position[2 * j + 1] - position[2 * i + 1];
-        double w = kernel_weight(sqrt(dx * dx + dy * dy), re);
+        double w = kernel_weight_squared(dx * dx + dy * dy, re);
         if (w == 0.0)
             continue;
         for (size_t c = 0; c < components; c++)

@@ -32,7 +32,7 @@ static const double *gas_number_density(mps2p_solver *s)
             size_t j = nl.index[k];
             double dx = position[2 * j] - position[2 * i];
             double dy = position[2 * j + 1] - position[2 * i + 1];
-            double w = kernel_weight(sqrt(dx * dx + dy * dy), re);
+            double w = kernel_weight_squared(dx * dx + dy * dy, re);
             if (s->kind[j] == MPS2P_KIND_FLUID && !tp->light[j] && tp->heavy_n[j] > 0.0) {
                 /* 1: against n0; 2: against the particle's own initial
                  * liquid number density (no spike at the start) */

@@ -26,7 +26,7 @@ static void heavy_number_density(const mps2p_solver *s, double *out)
                 continue;
             double dx = position[2 * j] - position[2 * i];
             double dy = position[2 * j + 1] - position[2 * i + 1];
-            double w = kernel_weight(sqrt(dx * dx + dy * dy), re);
+            double w = kernel_weight_squared(dx * dx + dy * dy, re);
             n += tp->light[j] ? tp->join_weight[j] * w : w;
         }
         out[i] = n;
