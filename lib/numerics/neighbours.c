@@ -284,69 +284,106 @@ static size_t candidates(const neighbour_list *list, const double *position, siz
     return total;
 }
 
-/* One thread: each row is stored as it is found, room made from the bound
- * of its candidates, with no counting pass; the same lists as two passes. */
-static int build_in_one_pass(neighbour_list *list, const double *position)
+/* Where a run of rows is stored: the index arrays, their room, and how many
+ * entries they hold. */
+typedef struct row_store {
+    uint32_t *index, *short_index;
+    size_t capacity, short_capacity, total, short_total;
+} row_store;
+
+/* Rows [first, end) stored one after another into store from its start,
+ * room made from the bound of each row's candidates (no counting pass);
+ * start[i + 1] (and short_start) get the running totals within the run. */
+static int store_rows(neighbour_list *list, const double *position, size_t first, size_t end,
+                      row_store *store)
 {
     const int with_short = list->short_start != NULL;
-    size_t total = 0, short_total = 0;
-    list->start[0] = 0;
-    if (with_short)
-        list->short_start[0] = 0;
-    for (size_t i = 0; i < list->count; i++) {
+    store->total = store->short_total = 0;
+    for (size_t i = first; i < end; i++) {
         size_t bound = candidates(list, position, i);
         /* the short index keeps one spare slot, so it is never NULL */
-        if (!reserve(&list->index, &list->capacity, total + bound) ||
-            (with_short &&
-             !reserve(&list->short_index, &list->short_capacity, short_total + bound + 1)))
-            return fail_growth(list);
+        if (!reserve(&store->index, &store->capacity, store->total + bound) ||
+            (with_short && !reserve(&store->short_index, &store->short_capacity,
+                                    store->short_total + bound + 1)))
+            return MPS2P_ERR_NOMEM;
         size_t near = 0;
-        total += gather(list, position, i, list->index + total,
-                        with_short ? list->short_index + short_total : NULL, &near);
-        short_total += near;
-        list->start[i + 1] = total;
+        store->total += gather(list, position, i, store->index + store->total,
+                               with_short ? store->short_index + store->short_total : NULL,
+                               &near);
+        store->short_total += near;
+        list->start[i + 1] = store->total;
         if (with_short)
-            list->short_start[i + 1] = short_total;
+            list->short_start[i + 1] = store->short_total;
     }
     return MPS2P_OK;
 }
 
-/* Several threads: a counting pass, then each row stored in its own slots. */
-static int build_in_two_passes(neighbour_list *list, const double *position)
+/* Each thread stores a contiguous run of rows in one pass: the first run
+ * straight into the list, the others into stores of their own, copied in
+ * behind it once every run's length is known. Every row is gathered once,
+ * by one thread, as with one thread: the lists do not depend on the number
+ * of threads. The later runs' stores hold their rows only until copied. */
+static int build_in_runs(neighbour_list *list, const double *position)
 {
     const int with_short = list->short_start != NULL;
-    const size_t n = list->count;
-    /* Each row is counted, then stored, by one thread, into its own slots:
-     * the lists do not depend on the number of threads. */
+    const size_t n = list->count, runs = (size_t)team_size(list->threads);
+    row_store *store = calloc(runs, sizeof *store);
+    size_t *offset = calloc(runs, sizeof *offset), *short_offset = calloc(runs, sizeof *offset);
+    if (!store || !offset || !short_offset) {
+        free(store);
+        free(offset);
+        free(short_offset);
+        return fail_growth(list);
+    }
     list->start[0] = 0;
     if (with_short)
         list->short_start[0] = 0;
-    PARALLEL_FOR(list->threads, schedule(static),
-    for (size_t i = 0; i < n; i++) {
-        size_t near = 0;
-        list->start[i + 1] = gather(list, position, i, NULL, NULL, &near);
-        if (with_short)
-            list->short_start[i + 1] = near;
+    store[0] = (row_store){list->index, list->short_index, list->capacity,
+                           list->short_capacity, 0, 0};
+    int failed = 0;
+    PARALLEL_FOR(list->threads, schedule(static, 1) reduction(| : failed),
+    for (size_t run = 0; run < runs; run++) {
+        failed |= store_rows(list, position, n * run / runs, n * (run + 1) / runs,
+                             &store[run]) != MPS2P_OK;
     });
-    for (size_t i = 0; i < n; i++) {
-        list->start[i + 1] += list->start[i];
-        if (with_short)
-            list->short_start[i + 1] += list->short_start[i];
+    list->index = store[0].index;
+    list->short_index = store[0].short_index;
+    list->capacity = store[0].capacity;
+    list->short_capacity = store[0].short_capacity;
+    size_t total = 0, short_total = 0;
+    for (size_t run = 0; run < runs; run++) {
+        offset[run] = total;
+        short_offset[run] = short_total;
+        total += store[run].total;
+        short_total += store[run].short_total;
     }
-    size_t total = list->start[n];
     /* the short index: one spare slot, so never NULL */
-    if (!reserve(&list->index, &list->capacity, total) ||
-        (with_short &&
-         !reserve(&list->short_index, &list->short_capacity, list->short_start[list->count] + 1)))
-        return fail_growth(list);
-    if (total > 0) { /* no pairs: index may be NULL */
-        PARALLEL_FOR(list->threads, schedule(static),
-        for (size_t i = 0; i < n; i++) {
-            gather(list, position, i, list->index + list->start[i],
-                   with_short ? list->short_index + list->short_start[i] : NULL, NULL);
+    failed = failed || !reserve(&list->index, &list->capacity, total) ||
+             (with_short && !reserve(&list->short_index, &list->short_capacity, short_total + 1));
+    if (!failed) {
+        PARALLEL_FOR(list->threads, schedule(static, 1),
+        for (size_t run = 1; run < runs; run++) {
+            if (store[run].total > 0)
+                memcpy(list->index + offset[run], store[run].index,
+                       store[run].total * sizeof *list->index);
+            if (with_short && store[run].short_total > 0)
+                memcpy(list->short_index + short_offset[run], store[run].short_index,
+                       store[run].short_total * sizeof *list->short_index);
+            for (size_t i = n * run / runs; i < n * (run + 1) / runs; i++) {
+                list->start[i + 1] += offset[run];
+                if (with_short)
+                    list->short_start[i + 1] += short_offset[run];
+            }
         });
     }
-    return MPS2P_OK;
+    for (size_t run = 1; run < runs; run++) {
+        free(store[run].index);
+        free(store[run].short_index);
+    }
+    free(store);
+    free(offset);
+    free(short_offset);
+    return failed ? fail_growth(list) : MPS2P_OK;
 }
 
 int neighbours_update(neighbour_list *list, const double *position)
@@ -354,8 +391,7 @@ int neighbours_update(neighbour_list *list, const double *position)
     if (!needs_rebuild(list, position))
         return MPS2P_OK;
     sort_into_cells(list, position);
-    int status = team_size(list->threads) == 1 ? build_in_one_pass(list, position)
-                                               : build_in_two_passes(list, position);
+    int status = build_in_runs(list, position);
     if (status != MPS2P_OK)
         return status;
     memcpy(list->built_at, position, 2 * list->count * sizeof *position);
