@@ -154,6 +154,22 @@ static inline neighbour_rows neighbour_rows_within(const neighbour_list *list, d
     return rows;
 }
 
+/* Row i's first entry above i. With one thread, a pair sum over the rows
+ * can take each pair once, in the row of its lower index, and add its term
+ * to both rows: since the rows are done in index order and each row is
+ * sorted, row j still receives its terms in ascending order of neighbour
+ * (those below j from the rows before it, then its own from here on), the
+ * order the row-by-row loop adds them in, so the sums are the same bits at
+ * half the pair weights. (r_ji = -r_ij exactly in floating point: both
+ * rows see the same distance.) */
+static inline size_t first_above(neighbour_rows rows, size_t i)
+{
+    size_t k = rows.start[i], end = rows.start[i + 1];
+    while (k < end && rows.index[k] < i)
+        k++;
+    return k;
+}
+
 /* ---- linear solvers (linear_solver.c) ---- */
 
 /* GAMG: PETSc's CG with algebraic multigrid, only with option petsc

@@ -13,6 +13,20 @@
 #include <math.h>
 #include <string.h>
 
+/* The weight factor of a liquid particle in the gas's number density (below),
+ * 0 for any other particle. */
+static double liquid_volume(const mps2p_solver *s, size_t j)
+{
+    const two_phase *tp = s->phases;
+    if (s->kind[j] != MPS2P_KIND_FLUID || tp->light[j] || !(tp->heavy_n[j] > 0.0))
+        return 0.0;
+    /* 1: against n0; 2: against the particle's own initial liquid number
+     * density (no spike at the start) */
+    const double n0 = s->n0_density;
+    double reference = s->params.gas_liquid_volume == 2.0 ? fmin(n0, tp->heavy_n_initial[j]) : n0;
+    return fmin(2.0, fmax(1.0, reference / tp->heavy_n[j]));
+}
+
 /* Number density for the gas with each liquid particle weighted by the
  * volume it stands for, n0 / n_liquid in [1, 2]: a sparse liquid sheet
  * (n_liquid < n0, common at MPS free surfaces) then does not look like room
@@ -22,9 +36,29 @@ static const double *gas_number_density(mps2p_solver *s)
     two_phase *tp = s->phases;
     if (s->params.gas_liquid_volume == 0.0 || !tp->improved) /* the paper's conventional */
         return s->number_density;
-    const double re = s->params.re_density * s->l0, n0 = s->n0_density;
+    const double re = s->params.re_density * s->l0;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *position = s->state.position;
+    double *out = tp->gas_n;
+    if (team_size(s->params.threads) == 1) {
+        /* each pair's weight once, added to both rows (first_above) */
+        memset(out, 0, s->count * sizeof *out);
+        for (size_t i = 0; i < s->count; i++) {
+            double n = out[i];
+            const double volume_i = liquid_volume(s, i);
+            for (size_t k = first_above(nl, i); k < nl.start[i + 1]; k++) {
+                size_t j = nl.index[k];
+                double dx = position[2 * j] - position[2 * i];
+                double dy = position[2 * j + 1] - position[2 * i + 1];
+                double w = kernel_weight_squared(dx * dx + dy * dy, re);
+                double volume_j = liquid_volume(s, j);
+                n += volume_j > 0.0 ? w * volume_j : w;
+                out[j] += volume_i > 0.0 ? w * volume_i : w;
+            }
+            out[i] = n;
+        }
+        return out;
+    }
     PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         double n = 0.0;
@@ -33,16 +67,10 @@ static const double *gas_number_density(mps2p_solver *s)
             double dx = position[2 * j] - position[2 * i];
             double dy = position[2 * j + 1] - position[2 * i + 1];
             double w = kernel_weight_squared(dx * dx + dy * dy, re);
-            if (s->kind[j] == MPS2P_KIND_FLUID && !tp->light[j] && tp->heavy_n[j] > 0.0) {
-                /* 1: against n0; 2: against the particle's own initial
-                 * liquid number density (no spike at the start) */
-                double reference = s->params.gas_liquid_volume == 2.0
-                                       ? fmin(n0, tp->heavy_n_initial[j]) : n0;
-                w *= fmin(2.0, fmax(1.0, reference / tp->heavy_n[j]));
-            }
-            n += w;
+            double volume_j = liquid_volume(s, j);
+            n += volume_j > 0.0 ? w * volume_j : w;
         }
-        tp->gas_n[i] = n;
+        out[i] = n;
     });
     return tp->gas_n;
 }

@@ -17,6 +17,27 @@ static void heavy_number_density(const mps2p_solver *s, double *out)
     const double re = s->params.re_density * s->l0;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *position = s->state.position;
+    if (team_size(s->params.threads) == 1) {
+        /* each pair's weight once, added to both rows (first_above) */
+        memset(out, 0, s->count * sizeof *out);
+        for (size_t i = 0; i < s->count; i++) {
+            double n = out[i];
+            for (size_t k = first_above(nl, i); k < nl.start[i + 1]; k++) {
+                size_t j = nl.index[k];
+                if (!tp->heavy_mask[j] && !tp->heavy_mask[i])
+                    continue;
+                double dx = position[2 * j] - position[2 * i];
+                double dy = position[2 * j + 1] - position[2 * i + 1];
+                double w = kernel_weight_squared(dx * dx + dy * dy, re);
+                if (tp->heavy_mask[j])
+                    n += tp->light[j] ? tp->join_weight[j] * w : w;
+                if (tp->heavy_mask[i])
+                    out[j] += tp->light[i] ? tp->join_weight[i] * w : w;
+            }
+            out[i] = n;
+        }
+        return;
+    }
     PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         double n = 0.0;
