@@ -17,6 +17,7 @@ int collision_apply(mps2p_solver *s, double dt)
     if (s->params.collision_distance <= 0.0)
         return MPS2P_OK;
     const double limit = s->params.collision_distance * s->l0;
+    const double limit2 = limit * limit * (1.0 + 1e-12);
     const double e = s->params.collision_restitution;
     /* The share of the impulse given in one step: dt / tau, at most 1, tau =
      * collision_time sqrt(l0 / |g|): a damper's rate then stays the same when
@@ -41,7 +42,12 @@ int collision_apply(mps2p_solver *s, double dt)
             size_t j = nl.index[k];
             double dx = position[2 * j] - position[2 * i];
             double dy = position[2 * j + 1] - position[2 * i + 1];
-            double r = sqrt(dx * dx + dy * dy);
+            double r2 = dx * dx + dy * dy;
+            /* most of the row lies beyond the limit: no square root there (the
+             * bound is a hair over limit^2, the test on r below is exact) */
+            if (r2 >= limit2)
+                continue;
+            double r = sqrt(r2);
             if (r >= limit || r <= 0.0)
                 continue;
             double nx = dx / r, ny = dy / r;
