@@ -57,7 +57,10 @@ int phases_correct(mps2p_solver *s, double dt)
         }
         du[0] = -dt / rho * gradient[0];
         du[1] = -dt / rho * gradient[1];
-        if (tp->light[i] && !moves_with_liquid(s, i) && cap > 0.0) {
+        /* hypot (slow) only near or past the cap: below the squared bound the
+         * change is surely within it */
+        if (tp->light[i] && !moves_with_liquid(s, i) && cap > 0.0 &&
+            du[0] * du[0] + du[1] * du[1] > cap * cap * (1.0 - 1e-12)) {
             double size = hypot(du[0], du[1]);
             if (size > cap) {
                 du[0] *= cap / size;
