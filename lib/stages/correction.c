@@ -26,16 +26,9 @@ void pressure_gradient_at(const mps2p_solver *s, size_t i, const double *pressur
                            gradient);
         return;
     }
-    if (s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC)
-        gradient_with_ghosts_at(s, i, pressure, mask, surface, gradient);
-    else
-        gradient_masked_at(s, i, pressure, pressure[i], mask, gradient);
-    double inverse[3];
-    if (corrective_matrix_at(s, i, mask, inverse)) {
-        double gx = gradient[0], gy = gradient[1];
-        gradient[0] = inverse[0] * gx + inverse[1] * gy;
-        gradient[1] = inverse[1] * gx + inverse[2] * gy;
-    }
+    corrected_gradient_at(s, i, pressure, mask,
+                          s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC ? surface : NULL,
+                          gradient);
 }
 
 int pressure_correct(mps2p_solver *s, double dt)

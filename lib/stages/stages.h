@@ -19,12 +19,6 @@ static inline int is_hydrostatic_ghost(const mps2p_solver *s, const unsigned cha
 {
     return s->kind[j] == MPS2P_KIND_DUMMY || (s->kind[j] == MPS2P_KIND_WALL && surface[j]);
 }
-/* The gradient with p_i as reference over non-dummy neighbours (those of
- * mask, when given), where a wall flagged in surface takes the ghost value
- * p_i + rho_i g . r_ij. */
-void gradient_with_ghosts_at(const mps2p_solver *s, size_t i, const double *pressure,
-                             const unsigned char *mask, const unsigned char *surface,
-                             double out[2]);
 /* (d / n0) sum_j (f_j - reference) r_ij w / |r_ij|^2 over non-dummy neighbours. */
 void gradient_at(const mps2p_solver *s, size_t i, const double *field, double reference,
                  double out[2]);
@@ -41,12 +35,17 @@ double minimum_masked_around(const mps2p_solver *s, size_t i, const double *fiel
                              const unsigned char *mask);
 void laplacian_masked_at(const mps2p_solver *s, size_t i, const double *field,
                          size_t components, const unsigned char *mask, double *out);
-/* Inverse of (d/n0) sum_j w r_ij r_ij^T / |r_ij|^2 over fluid and wall
- * neighbours (those of mask, when given), as (xx, xy, yy); returns 0 when its determinant is below
- * CORRECTIVE_MIN_DETERMINANT (one-sided neighbourhoods), 1 otherwise. */
+/* The gradient with p_i as reference over non-dummy neighbours (those of
+ * mask, when given; with ghosts, a wall flagged there takes the ghost value
+ * p_i + rho_i g . r_ij), times the inverse of the corrective matrix
+ * (d/n0) sum_j w r_ij r_ij^T / |r_ij|^2 over the same neighbours; left
+ * uncorrected where that matrix's determinant is below
+ * CORRECTIVE_MIN_DETERMINANT (one-sided neighbourhoods). Both sums in one
+ * pass over the neighbours. */
 #define CORRECTIVE_MIN_DETERMINANT 0.1
-int corrective_matrix_at(const mps2p_solver *s, size_t i, const unsigned char *mask,
-                         double inverse[3]);
+void corrected_gradient_at(const mps2p_solver *s, size_t i, const double *pressure,
+                           const unsigned char *mask, const unsigned char *ghosts,
+                           double out[2]);
 /* (2d / (lambda n0)) sum_j (f_j - f_i) w, per component of an interleaved field. */
 void laplacian_at(const mps2p_solver *s, size_t i, const double *field, size_t components,
                   double *out);
