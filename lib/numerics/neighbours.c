@@ -150,12 +150,10 @@ static size_t merge_into(uint32_t *out, size_t m, const uint32_t *in, size_t r)
     return m + r;
 }
 
-/* Visits the 3x3 cells around particle i; counts, or also stores (out),
- * neighbours closer than cutoff, sorted by index. *near (with a short list)
- * gets how many of them are closer than short_radius + skin, which are also
- * stored, in the same order, in short_out when out is given. The short list
- * is decided here, from the same distances as the long one, so that the
- * counting and the storing pass agree as they do for the long list.
+/* Visits the 3x3 cells around particle i and stores in out its neighbours
+ * closer than cutoff, sorted by index (room for candidates() of them);
+ * *near gets how many of them are closer than short_radius + skin, which
+ * are also stored, in the same order, in short_out (with a short list).
  * Rows must be sorted by index: the stages sum over them in that order, and
  * the order fixes the bits of every sum. A cell lists its particles in index
  * order (sort_into_cells), so each cell gives a sorted run, and the row is
@@ -183,19 +181,6 @@ static size_t gather(const neighbour_list *list, const double *position, size_t 
         if (y < 0 || y >= (long)list->cells[1])
             continue;
         size_t row_cell = (size_t)y * list->cells[0];
-        if (!out) {
-            /* counting: the row's cells are one span of cell_particle */
-            size_t end = list->cell_start[row_cell + (size_t)x1 + 1];
-            for (size_t k = list->cell_start[row_cell + (size_t)x0]; k < end; k++) {
-                size_t j = list->cell_particle[k];
-                double dx = position[2 * j] - xi, dy = position[2 * j + 1] - yi;
-                double d2 = dx * dx + dy * dy;
-                int in = d2 < cut2 && j != i;
-                found += (size_t)in;
-                found_near += (size_t)(in && d2 < short_cut2);
-            }
-            continue;
-        }
         for (long x = x0; x <= x1; x++) {
             size_t cell = row_cell + (size_t)x;
             size_t k = list->cell_start[cell], end = list->cell_start[cell + 1];
@@ -221,7 +206,7 @@ static size_t gather(const neighbour_list *list, const double *position, size_t 
             }
         }
     }
-    if (out && with_short) {
+    if (with_short) {
         /* Without a branch (about a third are near, in no pattern): a far
          * pair is written to the next near one's slot, or past the row's last
          * near one into sink; never into the next row, which another thread
@@ -269,7 +254,8 @@ static int fail_growth(neighbour_list *list)
     return MPS2P_ERR_NOMEM;
 }
 
-/* Particles in the 3x3 cells around particle i: a bound on its row. */
+/* Particles in the 3x3 cells around particle i, itself not counted: a bound
+ * on its row. */
 static size_t candidates(const neighbour_list *list, const double *position, size_t i)
 {
     if (skipped(list, i))
@@ -281,8 +267,11 @@ static size_t candidates(const neighbour_list *list, const double *position, siz
     size_t total = 0;
     for (size_t y = y0; y <= y1; y++)
         total += list->cell_start[y * columns + x1 + 1] - list->cell_start[y * columns + x0];
-    return total;
+    return total - 1; /* i is in its own cell */
 }
+
+/* Runs whose bookkeeping a build keeps on the stack (build_in_runs). */
+#define STACK_RUNS 64
 
 /* Where a run of rows is stored: the index arrays, their room, and how many
  * entries they hold. */
@@ -301,6 +290,12 @@ static int store_rows(neighbour_list *list, const double *position, size_t first
     store->total = store->short_total = 0;
     for (size_t i = first; i < end; i++) {
         size_t bound = candidates(list, position, i);
+        if (bound == 0) { /* an empty row (skipped, or alone): nothing to store */
+            list->start[i + 1] = store->total;
+            if (with_short)
+                list->short_start[i + 1] = store->short_total;
+            continue;
+        }
         /* the short index keeps one spare slot, so it is never NULL */
         if (!reserve(&store->index, &store->capacity, store->total + bound) ||
             (with_short && !reserve(&store->short_index, &store->short_capacity,
@@ -327,14 +322,22 @@ static int build_in_runs(neighbour_list *list, const double *position)
 {
     const int with_short = list->short_start != NULL;
     const size_t n = list->count, runs = (size_t)team_size(list->threads);
-    row_store *store = calloc(runs, sizeof *store);
-    size_t *offset = calloc(runs, sizeof *offset), *short_offset = calloc(runs, sizeof *offset);
-    if (!store || !offset || !short_offset) {
-        free(store);
-        free(offset);
-        free(short_offset);
+    /* the runs' bookkeeping on the stack up to STACK_RUNS threads: a build
+     * then allocates nothing but the lists' own room */
+    row_store stack_store[STACK_RUNS];
+    size_t stack_offset[2 * STACK_RUNS];
+    row_store *store = runs <= STACK_RUNS ? stack_store : calloc(runs, sizeof *store);
+    size_t *offset = runs <= STACK_RUNS ? stack_offset : calloc(2 * runs, sizeof *offset);
+    if (!store || !offset) {
+        if (store != stack_store)
+            free(store);
+        if (offset != stack_offset)
+            free(offset);
         return fail_growth(list);
     }
+    size_t *short_offset = offset + runs;
+    for (size_t run = 1; run < runs; run++)
+        store[run] = (row_store){NULL, NULL, 0, 0, 0, 0};
     list->start[0] = 0;
     if (with_short)
         list->short_start[0] = 0;
@@ -380,9 +383,10 @@ static int build_in_runs(neighbour_list *list, const double *position)
         free(store[run].index);
         free(store[run].short_index);
     }
-    free(store);
-    free(offset);
-    free(short_offset);
+    if (store != stack_store)
+        free(store);
+    if (offset != stack_offset)
+        free(offset);
     return failed ? fail_growth(list) : MPS2P_OK;
 }
 

@@ -68,7 +68,8 @@ int divergence_check(mps2p_solver *s, double dt)
     const double *r = s->state.position, *u = s->state.velocity, *p = s->state.pressure;
     const double *before = s->before_step->state.position;
     const double jump = s->params.displacement_limit * s->l0;
-    const double jump2_within = jump * jump * (1.0 - 1e-12);
+    /* 0 where the square is not finite: then hypot decides every time */
+    const double jump2_within = isfinite(jump * jump) ? jump * jump * (1.0 - 1e-12) : 0.0;
     const double t = s->time + dt;
     const unsigned long long step = (unsigned long long)s->steps + 1;
     /* fluid at the start: in the run or out of it (kinds only turn FLUID to OUT) */
@@ -100,7 +101,7 @@ int divergence_check(mps2p_solver *s, double dt)
         double dx = x - before[2 * i], dy = y - before[2 * i + 1];
         /* hypot (slow) only near or past the limit: below the squared bound
          * the distance is surely within it */
-        double moved = jump > 0.0 && dx * dx + dy * dy > jump2_within ? hypot(dx, dy) : 0.0;
+        double moved = jump > 0.0 && !(dx * dx + dy * dy <= jump2_within) ? hypot(dx, dy) : 0.0;
         if (jump > 0.0 && moved > jump)
             return diverged_at(s, i, fail(s->error, MPS2P_ERR_DIVERGED,
                         "diverged at step %llu, t = %.6g s: particle %zu (%s) jumped %g l0 "

@@ -168,9 +168,15 @@ static int fill_row(mps2p_solver *s, const ppe_system *sys, double dt, size_t i,
     return next;
 }
 
+/* Several threads: the rows' lengths counted, then each row filled into its
+ * own slots (below). */
+static int assemble_in_two_passes(mps2p_solver *s, const ppe_system *sys, double dt);
+
 /* One thread: each row is filled where the last one ended, room made from
- * the bound of its neighbour list, with no counting pass; the same matrix as
- * two passes. */
+ * the bound of its neighbour list (about 1.3 times its entries), with no
+ * counting pass; the same matrix as two passes. Where that bound passes the
+ * int index range or the memory at hand, the two passes decide, from the
+ * exact count (and report it). */
 static int assemble_in_one_pass(mps2p_solver *s, const ppe_system *sys, double dt)
 {
     const neighbour_list *nl = &s->neighbours;
@@ -181,12 +187,8 @@ static int assemble_in_one_pass(mps2p_solver *s, const ppe_system *sys, double d
         if (row < 0)
             continue;
         size_t bound = (size_t)next + (nl->start[i + 1] - nl->start[i]) + 1;
-        if (bound > (size_t)INT_MAX)
-            return fail(s->error, MPS2P_ERR_NOMEM,
-                        "pressure matrix with %zu entries is beyond the int index range", bound);
-        if (grow_matrix(m, m->rows, bound) != MPS2P_OK)
-            return fail(s->error, MPS2P_ERR_NOMEM,
-                        "out of memory for the pressure matrix (%zu entries)", bound);
+        if (bound > (size_t)INT_MAX || grow_matrix(m, m->rows, bound) != MPS2P_OK)
+            return assemble_in_two_passes(s, sys, dt);
         m->row_start[row] = next;
         next = fill_row(s, sys, dt, i, row, next);
     }
@@ -194,8 +196,8 @@ static int assemble_in_one_pass(mps2p_solver *s, const ppe_system *sys, double d
     return MPS2P_OK;
 }
 
-/* Several threads: the rows' lengths counted, a row per thread at a time,
- * then each row filled into its own slots. */
+/* The rows' lengths counted, a row per thread at a time, then each row
+ * filled into its own slots. */
 static int assemble_in_two_passes(mps2p_solver *s, const ppe_system *sys, double dt)
 {
     const double re = s->params.re_laplacian * s->l0;

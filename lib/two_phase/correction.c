@@ -35,6 +35,8 @@ int phases_correct(mps2p_solver *s, double dt)
     double *change = s->scratch;
     /* the improved model's guard; the conventional model is the paper's */
     const double cap = tp->improved ? s->params.gas_correction_limit * s->l0 / dt : 0.0;
+    /* 0 where the square is not finite: then hypot decides every time */
+    const double cap2_within = isfinite(cap * cap) ? cap * cap * (1.0 - 1e-12) : 0.0;
     size_t capped = 0;
     PARALLEL_FOR(s->params.threads, schedule(static) reduction(+ : capped),
     for (size_t i = 0; i < s->count; i++) {
@@ -60,7 +62,7 @@ int phases_correct(mps2p_solver *s, double dt)
         /* hypot (slow) only near or past the cap: below the squared bound the
          * change is surely within it */
         if (tp->light[i] && !moves_with_liquid(s, i) && cap > 0.0 &&
-            du[0] * du[0] + du[1] * du[1] > cap * cap * (1.0 - 1e-12)) {
+            !(du[0] * du[0] + du[1] * du[1] <= cap2_within)) {
             double size = hypot(du[0], du[1]);
             if (size > cap) {
                 du[0] *= cap / size;
