@@ -58,7 +58,8 @@ int main(void)
     mps2p_scene *scene = dam_break_scene(0.01);
     MUST(mps2p_scene_set_option(scene, "pressure_solver", "cholmod"));
     compare_counts(scene, 60, "dam break (cholmod)");
-    /* a CG solve over more than one block of REDUCTION_BLOCK unknowns */
+    /* a CG solve over more than one block of REDUCTION_BLOCK unknowns, and the
+     * assembly in two passes (smaller systems are filled in one) */
     mps2p_scene *column;
     int water;
     MUST(mps2p_scene_create(0.02, &column));

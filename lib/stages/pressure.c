@@ -269,8 +269,12 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
         return fail(s->error, MPS2P_ERR_NOMEM,
                     "out of memory for the pressure matrix (%ld rows)", unknowns);
     s->matrix.rows = (int)unknowns;
-    return team_size(s->params.threads) == 1 ? assemble_in_one_pass(s, sys, dt)
-                                             : assemble_in_two_passes(s, sys, dt);
+    /* a small system (the liquid's beside a large gas, about 450 rows in the
+     * paper's case) in one pass on any number of threads: its rows are too
+     * few to share, and the passes' loops run over every particle */
+    return team_size(s->params.threads) == 1 || unknowns < REDUCTION_BLOCK
+               ? assemble_in_one_pass(s, sys, dt)
+               : assemble_in_two_passes(s, sys, dt);
 }
 
 int pressure_solve_system(mps2p_solver *s, ppe_system *sys)
