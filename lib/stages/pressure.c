@@ -168,13 +168,14 @@ static int fill_row(mps2p_solver *s, const ppe_system *sys, double dt, size_t i,
     return next;
 }
 
-/* Several threads: the rows' lengths counted, then each row filled into its
- * own slots (below). */
+/* Several threads and at least REDUCTION_BLOCK unknowns: the rows' lengths
+ * counted, then each row filled into its own slots (below). */
 static int assemble_in_two_passes(mps2p_solver *s, const ppe_system *sys, double dt);
 
-/* One thread: each row is filled where the last one ended, room made from
- * the bound of its neighbour list (about 1.3 times its entries), with no
- * counting pass; the same matrix as two passes. Where that bound passes the
+/* One thread, or fewer than REDUCTION_BLOCK unknowns: each row is filled
+ * where the last one ended, room made from the bound of its neighbour list
+ * (about 1.3 times its entries), with no counting pass; the same matrix as
+ * two passes. Where that bound passes the
  * int index range or the memory at hand, the two passes decide, from the
  * exact count (and report it). */
 static int assemble_in_one_pass(mps2p_solver *s, const ppe_system *sys, double dt)
