@@ -4,12 +4,12 @@ break against Martin & Moyce (1952), the impact pressure against Buchner
 Buchner's stream alone turning up the wall, for the default scheme and
 Koshizuka and Oka's (scheme koshizuka1996).
 
-    python3 examples/validation.py still|dam|shift|buchner|turning|stream|all [--quick] [--out DIR]
+    python3 examples/validation.py still|dam|shift|buchner|turning|stream|all [--quick] [--fine] [--out DIR]
     python3 examples/validation.py tables [--out DIR]   # the JSONs as Markdown
 
 Each case writes CSV series, a JSON summary and PNG pictures into DIR
 (default out/validation). --quick runs shorter versions (still water 2 s,
-Buchner at H/l0 = 40 only). Reference data: data/ (cited in data/README.md).
+Buchner at H/l0 = 40 only); --fine adds Buchner at H/l0 = 160. Reference data: data/ (cited in data/README.md).
 """
 import argparse
 import csv
@@ -203,18 +203,19 @@ def dam_break(scheme, l0=0.01, end=1.0, a=0.15, every=0.005, cfl=0.2):
                "isolated_max_at": float(arr[int(np.argmax(arr[:, 2])), 0]),
                "energy_excess_max": worst[0],
                # before the front reaches the right wall (first contact at T = 3.05;
-               # T <= 2.8 also lies inside the fine runs, which end at T = 2.86): the
+               # T <= 2.8 also lies inside the cfl 0.1 and 0.05 runs at l0 = 0.005 m,
+               # which end at T = 2.86): the
                # collapse and run-out alone, where an inviscid flow loses nothing
                "energy_balance_before_wall": float(arr[T <= 2.8, 3][-1]),
                "energy_balance_end": float(arr[-1, 3]),
                "noise_energy_max": float(arr[:, 4].max()),
                "noise_energy_max_before_wall": float(arr[T <= 2.8, 4].max()),
-               "steps": solver.step_count}
+               "steps": solver.step_count, "water_particles": n}
     return rows, summary
 
 
 def run_dam(out, quick):
-    summaries, series = [], {}
+    summaries, series, water = [], {}, {}
     # spacings that divide the 0.15 m column exactly; the front depends on dt as
     # much as on l0, hence the cfl sweep
     runs = [(s, 0.01, 0.2) for s in SCHEMES] + [("corrected", 0.015, 0.2)]
@@ -224,11 +225,14 @@ def run_dam(out, quick):
                  ("corrected", 0.005, 0.1), ("corrected", 0.005, 0.05)]
     for scheme, l0, cfl in runs:
         print("dam break, %s, l0 = %g m, cfl %g" % (scheme, l0, cfl))
-        end = 1.0 if l0 >= 0.01 else 0.25
+        # the fine runs at cfl 0.2 to 1 s too (their spray), the finer cfl sweeps
+        # to 0.25 s (T = 2.86, before the wall): the front is all they are for
+        end = 1.0 if l0 >= 0.01 or cfl == 0.2 else 0.25
         rows, s = dam_break(scheme, l0, end, cfl=cfl)
         write_csv(os.path.join(out, "dam_%s_%g_cfl%g.csv" % (scheme, l0, cfl)),
                   ["t", "front", "isolated", "energy_balance", "noise_energy"], rows)
         series[(scheme, l0, cfl)] = np.array(rows)
+        water[(scheme, l0, cfl)] = s["water_particles"]
         summaries.append(s)
         print("  front error max %.1f %%, isolated max %.1f %% at %.2f s, energy excess %.4f %%, "
               "balance before the wall %+.2f %%, at the end %+.2f %%, noise energy max %.2f %%"
@@ -258,12 +262,13 @@ def run_dam(out, quick):
     ax[0].set_title("Surge front (dotted: the right wall)")
     ax[0].legend(fontsize=8)
     for (scheme, l0, cfl), arr in series.items():
-        if l0 == 0.01:
-            ax[1].plot(arr[:, 0], 100 * arr[:, 2] / 450, label="%s, cfl %g" % (scheme, cfl))
+        if arr[-1, 0] > 0.5 and (l0 == 0.01 or cfl == 0.2):
+            ax[1].plot(arr[:, 0], 100 * arr[:, 2] / water[(scheme, l0, cfl)],
+                       label="%s, l0 = %g m, cfl %g" % (scheme, l0, cfl))
     ax[1].axhline(2.0, color="grey", lw=0.8, ls=":")
     ax[1].set_xlabel("t (s)")
     ax[1].set_ylabel("isolated particles (% of the water)")
-    ax[1].set_title("No other water particle within 2.1 l0 (l0 = 0.01 m)\n(dotted: 2 %)")
+    ax[1].set_title("No other water particle within 2.1 l0\n(dotted: 2 %)")
     ax[1].legend(fontsize=8)
     for (scheme, l0, cfl), arr in series.items():
         if l0 == 0.01 and cfl == 0.2:
@@ -391,9 +396,11 @@ def impact(scheme, per_height, H=0.6, end_star=7.0, every_star=0.01):
     return rows, summary
 
 
-def run_buchner(out, quick):
+def run_buchner(out, quick, fine=False):
     summaries, series = [], {}
     runs = [(s, 40) for s in SCHEMES] + ([] if quick else [("corrected", 80)])
+    if fine:  # 58,504 particles, about 45 minutes on one core
+        runs += ([("corrected", 80)] if quick else []) + [("corrected", 160)]
     for scheme, per_height in runs:
         print("impact pressure, %s, H/l0 = %d" % (scheme, per_height))
         rows, s = impact(scheme, per_height)
@@ -402,6 +409,13 @@ def run_buchner(out, quick):
         series[(scheme, per_height)] = np.array(rows)
         summaries.append(s)
         print("  " + json.dumps(s))
+    plot_buchner(out, series)
+    return summaries
+
+
+def plot_buchner(out, series):
+    """buchner.png: the series {(scheme, H/l0): rows of t*, P1, P2} against
+    the experiment's."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -419,7 +433,6 @@ def run_buchner(out, quick):
     ax[1].set_xlim(1.5, 7.0)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "buchner.png"), dpi=110)
-    return summaries
 
 
 def turning_theory(y, h):
@@ -578,38 +591,42 @@ def tables(out):
     def load(name):
         with open(os.path.join(out, name + ".json")) as f:
             return json.load(f)
-    lines = ["| tank | scheme | RMS speed after 0.5 s, max (bar) | RMS displacement at the end "
-             "(bar 0.1 l0) | bottom pressure vs rho g h' (bar 1 %) | bottom row's spread, max "
-             "(bar 5 %) |", "|---|---|---|---|---|---|"]
-    for r in load("still"):
-        lines.append("| %.1f m, %g s | %s | %.2g m/s (%.2g) | %.3f l0 | %+.3f %% | %.3f %% |" % (
-            r["depth"], r["end"], r["scheme"], r["rms_speed_max_after_0.5"], r["rms_speed_bar"],
-            r["displacement_end_l0"], 100 * r["bottom_pressure_error"],
-            100 * r["bottom_spread_max"]))
-    lines += ["", "| scheme, l0, cfl | " + " | ".join(
-        "T = %.3f (%s in)" % (p["T"], ("%g" % p["series_in"])) for p in load("dam")[0]["front"])
-        + " | max | isolated, max | energy above the released, max | energy balance before "
-        "the wall, at the end | noise energy, max before the wall, overall |",
-        "|---|" + "---|" * (len(load("dam")[0]["front"]) + 5)]
-    lines.append("| Martin & Moyce Z | " + " | ".join("%.3f" % p["Z_mm"] for p in load("dam")[0]["front"])
-                 + " | | | | | |")
-    for r in load("dam"):
-        lines.append("| %s, %g m, %g | " % (r["scheme"], r["l0"], r["cfl"]) + " | ".join(
-            "%.3f (%+.1f %%)" % (p["Z"], 100 * p["error"]) for p in r["front"]) +
-            " | %.1f %% | %.1f %% (%.2f s) | %.3f %% | %+.1f %%, %+.1f %% | %.2f %%, %.2f %% |" % (
-                100 * r["front_error_max"], 100 * r["isolated_max_fraction"],
-                r["isolated_max_at"], 100 * r["energy_excess_max"],
-                100 * r["energy_balance_before_wall"], 100 * r["energy_balance_end"],
-                100 * r["noise_energy_max_before_wall"], 100 * r["noise_energy_max"]))
-    lines += ["", "| scheme, H/l0 | particles | first P1 > 0.1 (exp. %.2f) | peak | plateau "
-              "t* 3-5 (exp. %.2f) | RMS difference t* 2-7 | noise t* 2-7 (bar 0.1 at 80) |"
-              % (load("buchner")[0]["impact_t_experiment"], load("buchner")[0]["plateau_experiment"]),
-              "|---|---|---|---|---|---|---|"]
-    for r in load("buchner"):
-        lines.append("| %s, %d | %d | %s | %.2f | %.2f | %.2f | %.2f |" % (
-            r["scheme"], r["H_over_l0"], r["particles"],
-            "%.2f" % r["impact_t"] if r["impact_t"] is not None else "never",
-            r["peak"], r["plateau_3_5"], r["rms_difference_2_7"], r["noise_2_7"]))
+    lines = []
+    if os.path.exists(os.path.join(out, "still.json")):
+        lines += ["", "| tank | scheme | RMS speed after 0.5 s, max (bar) | RMS displacement at "
+                  "the end (bar 0.1 l0) | bottom pressure vs rho g h' (bar 1 %) | bottom row's "
+                  "spread, max (bar 5 %) |", "|---|---|---|---|---|---|"]
+        for r in load("still"):
+            lines.append("| %.1f m, %g s | %s | %.2g m/s (%.2g) | %.3f l0 | %+.3f %% | %.3f %% |" % (
+                r["depth"], r["end"], r["scheme"], r["rms_speed_max_after_0.5"], r["rms_speed_bar"],
+                r["displacement_end_l0"], 100 * r["bottom_pressure_error"],
+                100 * r["bottom_spread_max"]))
+    if os.path.exists(os.path.join(out, "dam.json")):
+        lines += ["", "| scheme, l0, cfl | " + " | ".join(
+            "T = %.3f (%s in)" % (p["T"], ("%g" % p["series_in"])) for p in load("dam")[0]["front"])
+            + " | max | isolated, max | energy above the released, max | energy balance before "
+            "the wall, at the end | noise energy, max before the wall, overall |",
+            "|---|" + "---|" * (len(load("dam")[0]["front"]) + 5)]
+        lines.append("| Martin & Moyce Z | " + " | ".join("%.3f" % p["Z_mm"] for p in load("dam")[0]["front"])
+                     + " | | | | | |")
+        for r in load("dam"):
+            lines.append("| %s, %g m, %g | " % (r["scheme"], r["l0"], r["cfl"]) + " | ".join(
+                "%.3f (%+.1f %%)" % (p["Z"], 100 * p["error"]) for p in r["front"]) +
+                " | %.1f %% | %.1f %% (%.2f s) | %.3f %% | %+.1f %%, %+.1f %% | %.2f %%, %.2f %% |" % (
+                    100 * r["front_error_max"], 100 * r["isolated_max_fraction"],
+                    r["isolated_max_at"], 100 * r["energy_excess_max"],
+                    100 * r["energy_balance_before_wall"], 100 * r["energy_balance_end"],
+                    100 * r["noise_energy_max_before_wall"], 100 * r["noise_energy_max"]))
+    if os.path.exists(os.path.join(out, "buchner.json")):
+        lines += ["", "| scheme, H/l0 | particles | first P1 > 0.1 (exp. %.2f) | peak | plateau "
+                  "t* 3-5 (exp. %.2f) | RMS difference t* 2-7 | noise t* 2-7 (bar 0.1 at 80) |"
+                  % (load("buchner")[0]["impact_t_experiment"], load("buchner")[0]["plateau_experiment"]),
+                  "|---|---|---|---|---|---|---|"]
+        for r in load("buchner"):
+            lines.append("| %s, %d | %d | %s | %.2f | %.2f | %.2f | %.2f |" % (
+                r["scheme"], r["H_over_l0"], r["particles"],
+                "%.2f" % r["impact_t"] if r["impact_t"] is not None else "never",
+                r["peak"], r["plateau_3_5"], r["rms_difference_2_7"], r["noise_2_7"]))
     if os.path.exists(os.path.join(out, "turning.json")):
         turning = load("turning")
         lines += ["", "| scheme | " + " | ".join("y = %gh" % f for f in turning[0]["heights_over_h"])
@@ -633,7 +650,7 @@ def tables(out):
             lines.append("| %s | " % r["label"] + " | ".join(
                 "%.2f (%.2f)" % (m, d) for m, d in zip(r["p_mean"], r["p_std"])) +
                 " | %.2f | %.2f |" % (r["force"], r["P1_over_rho_g_H"]))
-    print("\n".join(lines))
+    print("\n".join(lines[1:]))
 
 
 def main(argv=None):
@@ -643,6 +660,8 @@ def main(argv=None):
                         help="a case, all six, or tables: the JSON summaries in --out as "
                              "Markdown (the shift case's table is written by hand)")
     parser.add_argument("--quick", action="store_true", help="shorter runs (see the module help)")
+    parser.add_argument("--fine", action="store_true",
+                        help="buchner: also H/l0 = 160 (about 45 minutes more)")
     parser.add_argument("--out", default=os.path.join("out", "validation"),
                         help="folder for the CSV, JSON and PNG files")
     args = parser.parse_args(argv)
@@ -652,7 +671,8 @@ def main(argv=None):
     os.makedirs(args.out, exist_ok=True)
     cases = (("still", "dam", "shift", "buchner", "turning", "stream") if args.case == "all"
              else (args.case,))
-    runners = {"still": run_still, "dam": run_dam, "shift": run_shift, "buchner": run_buchner,
+    runners = {"still": run_still, "dam": run_dam, "shift": run_shift,
+               "buchner": lambda out, quick: run_buchner(out, quick, args.fine),
                "turning": run_turning, "stream": run_stream}
     for case in cases:
         summary = runners[case](args.out, args.quick)

@@ -6,7 +6,7 @@
 # series.csv, summary.json, snapshots.png (pressure), snapshots_phase.png
 # (water and air), velocity_air.png (the air's velocity arrows), series.png,
 # front.png (against Martin & Moyce) and front_vs_water_only.png (the same
-# column without air, run into out/dam_break, beside it). About 2 minutes on
+# column without air, run into out/dam_break, beside it). About 1.5 minutes on
 # 2 cores (after the dependencies are installed).
 set -euo pipefail
 cd "$(dirname "$0")/.."
