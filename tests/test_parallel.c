@@ -10,17 +10,20 @@
 typedef struct result {
     size_t n;
     double *state; /* positions (2n), velocities (2n), pressure (n) */
+    double ppe_unknowns, gas_ppe_unknowns; /* of the last step (0 without gas) */
 } result;
 
 static result run(mps2p_scene *scene, double threads, int steps)
 {
-    result out = {0, NULL};
+    result out = {0, NULL, 0.0, 0.0};
     mps2p_solver *solver;
     MUST(mps2p_scene_set_param(scene, "threads", threads));
     MUST(mps2p_solver_create(scene, &solver));
     for (int k = 0; k < steps; k++)
         MUST(mps2p_solver_step(solver));
     MUST(mps2p_solver_particle_count(solver, &out.n));
+    MUST(mps2p_solver_get_stat(solver, "ppe_unknowns", &out.ppe_unknowns));
+    MUST(mps2p_solver_get_stat(solver, "gas_ppe_unknowns", &out.gas_ppe_unknowns));
     out.state = malloc(5 * out.n * sizeof *out.state);
     if (!out.state) {
         fprintf(stderr, "test_parallel: out of memory\n");
@@ -38,10 +41,14 @@ static int same(result a, result b)
     return a.n == b.n && memcmp(a.state, b.state, 5 * a.n * sizeof *a.state) == 0;
 }
 
-/* Runs scene with 1, 2, 2 again and 3 threads; all must agree bit for bit. */
+/* Runs scene with 1, 2, 2 again and 3 threads; all must agree bit for bit.
+ * Returns the one-thread run's unknowns (liquid, gas) in last_unknowns. */
+static double last_unknowns[2];
 static void compare_counts(mps2p_scene *scene, int steps, const char *what)
 {
     result one = run(scene, 1, steps), two = run(scene, 2, steps);
+    last_unknowns[0] = one.ppe_unknowns;
+    last_unknowns[1] = one.gas_ppe_unknowns;
     result again = run(scene, 2, steps), three = run(scene, 3, steps);
     CHECK(same(one, two), "%s: 2 threads differ from 1", what);
     CHECK(same(two, again), "%s: two runs with 2 threads differ", what);
@@ -87,6 +94,13 @@ int main(void)
     MUST(mps2p_scene_set_option(air_column, "pressure_solver", "cg"));
     MUST(mps2p_scene_set_param(air_column, "dt", 1e-3));
     compare_counts(air_column, 60, "water column under air (two phases, cg)");
+    /* the assembly's both paths with threads: the liquid's system in one pass
+     * (under REDUCTION_BLOCK = 1024 unknowns), the gas's, with its mask of
+     * participants, in two */
+    CHECK(last_unknowns[0] > 0 && last_unknowns[0] < 1024, "liquid unknowns %g, not under 1024",
+          last_unknowns[0]);
+    CHECK(last_unknowns[1] >= 1024, "gas unknowns %g, under 1024: the two passes untested",
+          last_unknowns[1]);
     mps2p_scene_destroy(air_column);
 
     /* 0 = OpenMP's default; whole numbers in [0, 1024] only */
