@@ -238,8 +238,9 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  *                     pattern, about 3.5 times fewer iterations than Jacobi
  *                     at twice the cost of one
  *   scheme            "corrected" (default) or "koshizuka1996": sets
- *                     pressure_gradient, ppe_source, wall_ghosts and the
- *                     parameters marked * above together (docs/validation.md
+ *                     pressure_gradient, ppe_source, wall_ghosts,
+ *                     surface_pressure and the parameters marked * above
+ *                     together (docs/validation.md
  *                     measures both); set it first, then change any of them;
  *                     reads "custom" once one differs from both schemes
  *   pressure_gradient "corrected" (default): p_i as reference and the
@@ -257,6 +258,13 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  *                     particle i, in the PPE and the gradient; "none"
  *                     (koshizuka1996): dummies only fill the number density
  *                     and a dry wall holds p = 0
+ *   surface_pressure  "extrapolated" (default): a free-surface fluid particle
+ *                     is an unknown, its missing neighbours the linear
+ *                     extrapolation of its pressure to 0 half a spacing
+ *                     beyond it, where the water's top lies (still water's
+ *                     pressure is that of the water's depth); "centre"
+ *                     (koshizuka1996): p = 0 at its centre, the pressure of
+ *                     a depth l0/2 short (docs/method.md)
  *   ppe_pattern       "distance" (default): the PPE matrix holds the pairs
  *                     within re_laplacian; "neighbour_list": every pair of
  *                     the neighbour list (zeros beyond re_laplacian), a

@@ -115,6 +115,11 @@ enum wall_ghosts_kind {
     WALL_GHOSTS_NONE = 0,       /* Koshizuka and Oka: dummies only fill n, a dry wall p = 0 */
     WALL_GHOSTS_HYDROSTATIC = 1 /* p_j = p_i + rho_i g . r_ij, seen from each particle i */
 };
+/* The pressure of a free-surface fluid particle (stages/pressure.c). */
+enum surface_pressure_kind {
+    SURFACE_PRESSURE_CENTRE = 0,      /* Koshizuka and Oka: p = 0 at its centre */
+    SURFACE_PRESSURE_EXTRAPOLATED = 1 /* an unknown; p = 0 half a spacing beyond it */
+};
 /* Two-phase model (effects two_phase and interface_reaction; two_phase/). */
 enum two_phase_model_kind {
     TWO_PHASE_IMPROVED = 0, /* two_step_improved: the default */
@@ -188,6 +193,7 @@ typedef struct params {
     int ppe_source;
     int ppe_pattern;
     int wall_ghosts;
+    int surface_pressure;
     int free_surface;
     int two_phase_model;
     int interface_reaction;

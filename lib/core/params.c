@@ -135,7 +135,7 @@ static const param_entry table[] = {
  * both and says why the default is what it is. */
 typedef struct scheme_entry {
     const char *name;
-    int pressure_gradient, ppe_source, wall_ghosts;
+    int pressure_gradient, ppe_source, wall_ghosts, surface_pressure;
     double re_laplacian, collision_distance, collision_time, gravity_number;
 } scheme_entry;
 
@@ -144,10 +144,11 @@ static const scheme_entry schemes[] = {
      * dummies and dry walls as hydrostatic ghosts, collision as a damper of
      * every approaching pair closer than the lattice spacing at a rate that
      * does not grow as dt shrinks, a gravity limit on dt */
-    {"corrected", GRADIENT_CORRECTED, PPE_SOURCE_ECS, WALL_GHOSTS_HYDROSTATIC, 3.1, 0.995, 0.03,
-     0.03},
+    {"corrected", GRADIENT_CORRECTED, PPE_SOURCE_ECS, WALL_GHOSTS_HYDROSTATIC,
+     SURFACE_PRESSURE_EXTRAPOLATED, 3.1, 0.995, 0.03, 0.03},
     /* Koshizuka and Oka (1996), as docs/method.md restates it: the paper's scheme */
-    {"koshizuka1996", GRADIENT_MINIMUM, PPE_SOURCE_DENSITY, WALL_GHOSTS_NONE, 4.0, 0.5, 0.0, 0.0},
+    {"koshizuka1996", GRADIENT_MINIMUM, PPE_SOURCE_DENSITY, WALL_GHOSTS_NONE,
+     SURFACE_PRESSURE_CENTRE, 4.0, 0.5, 0.0, 0.0},
 };
 #define SCHEME_COUNT (sizeof schemes / sizeof schemes[0])
 
@@ -156,6 +157,7 @@ static void scheme_apply(params *p, const scheme_entry *e)
     p->pressure_gradient = e->pressure_gradient;
     p->ppe_source = e->ppe_source;
     p->wall_ghosts = e->wall_ghosts;
+    p->surface_pressure = e->surface_pressure;
     p->re_laplacian = e->re_laplacian;
     p->collision_distance = e->collision_distance;
     p->collision_time = e->collision_time;
@@ -168,7 +170,8 @@ static const scheme_entry *scheme_of(const params *p)
     for (size_t i = 0; i < SCHEME_COUNT; i++) {
         const scheme_entry *e = &schemes[i];
         if (p->pressure_gradient == e->pressure_gradient && p->ppe_source == e->ppe_source &&
-            p->wall_ghosts == e->wall_ghosts && p->re_laplacian == e->re_laplacian &&
+            p->wall_ghosts == e->wall_ghosts && p->surface_pressure == e->surface_pressure &&
+            p->re_laplacian == e->re_laplacian &&
             p->collision_distance == e->collision_distance &&
             p->collision_time == e->collision_time && p->gravity_number == e->gravity_number)
             return e;
@@ -342,6 +345,9 @@ static const option_entry options[] = {
      "list (CHOLMOD's analysis reused while the list stands)"},
     {"wall_ghosts", offsetof(params, wall_ghosts), {"none", "hydrostatic", NULL},
      "dummies and dry walls as hydrostatic ghosts p_i + rho_i g . r_ij, or not"},
+    {"surface_pressure", offsetof(params, surface_pressure), {"centre", "extrapolated", NULL},
+     "a free-surface fluid particle's pressure: 0 at its centre, or an unknown whose "
+     "pressure reaches 0 half a spacing beyond it (the water's top)"},
     {"free_surface", offsetof(params, free_surface), {"number_density", "neighbour_count", NULL},
      "free surface where n* < beta n0, or also where a particle has few neighbours"},
     {"two_phase_model", offsetof(params, two_phase_model),
@@ -483,9 +489,9 @@ int mps2p_param_count(size_t *count)
 
 /* The options, then "scheme" (it sets several of the others). */
 #define SCHEME_DESCRIPTION                                                                 \
-    "sets pressure_gradient, ppe_source, wall_ghosts, re_laplacian, collision_distance, "  \
-    "collision_time and gravity_number together (docs/validation.md); reads custom once "  \
-    "one of them differs"
+    "sets pressure_gradient, ppe_source, wall_ghosts, surface_pressure, re_laplacian, "    \
+    "collision_distance, collision_time and gravity_number together "                      \
+    "(docs/validation.md); reads custom once one of them differs"
 
 int mps2p_option_count(size_t *count)
 {

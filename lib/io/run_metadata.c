@@ -124,6 +124,11 @@ int h5_read_parameters(h5_context *ctx, hid_t file, params *out)
             out->cg_preconditioner = CG_PRECONDITIONER_JACOBI;
             continue;
         }
+        /* files from before surface_pressure held p = 0 at the centre */
+        if (strcmp(key, "surface_pressure") == 0 && H5Aexists(group, key) == 0) {
+            out->surface_pressure = SURFACE_PRESSURE_CENTRE;
+            continue;
+        }
         /* files from before wall_ghosts had none */
         if (strcmp(key, "wall_ghosts") == 0 && H5Aexists(group, key) == 0) {
             out->wall_ghosts = WALL_GHOSTS_NONE;

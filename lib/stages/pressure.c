@@ -79,6 +79,12 @@ static ppe_system single_phase_system(mps2p_solver *s)
                       .density = s->density,
                       .pressure = s->state.pressure,
                       .hydrostatic_ghosts = s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC,
+                      /* the stage workspace is free between the viscosity and
+                       * the correction */
+                      .surface_diagonal = s->params.surface_pressure ==
+                                                  SURFACE_PRESSURE_EXTRAPOLATED
+                                              ? s->scratch
+                                              : NULL,
                       .unknowns = s->ppe_unknowns};
     return sys;
 }
@@ -159,9 +165,15 @@ static int fill_row(mps2p_solver *s, const ppe_system *sys, double dt, size_t i,
     }
     if (diagonal_at < 0)
         diagonal_at = next++;
+    /* a free-surface particle's row: the Laplacian with its missing
+     * neighbours as the linear extrapolation to p = 0 half a spacing out,
+     * and no source (its number density is short by those neighbours) */
+    const int at_surface = sys->surface[i] && sys->surface_diagonal;
+    if (at_surface)
+        diagonal += sys->surface_diagonal[i];
     m->column[diagonal_at] = row;
     m->value[diagonal_at] = diagonal;
-    s->rhs[row] = source_term(s, sys, i, dt);
+    s->rhs[row] = at_surface ? 0.0 : source_term(s, sys, i, dt);
     if (ghosts)
         s->rhs[row] += ghost_sum;
     s->solution[row] = sys->pressure[i]; /* warm start for CG */
@@ -245,6 +257,51 @@ static int assemble_in_two_passes(mps2p_solver *s, const ppe_system *sys, double
     return MPS2P_OK;
 }
 
+/* surface_pressure = extrapolated: a free-surface fluid particle i becomes
+ * an unknown whose missing neighbours (the air's side of a full lattice)
+ * stand as the linear extrapolation of p_i to 0 at delta = l0/2 beyond it
+ * along the outward normal, where the water's top lies (its volume l0^2 per
+ * particle). A missing neighbour at depth d along the normal then adds
+ * w (p_i (1 - d/delta) - p_i) = -w d p_i / delta, in all -|m_i| p_i / delta
+ * with m_i = sum_j w_ij r_ij over the neighbours present (on a full lattice
+ * the first moment is zero, so the missing part's is -m_i): an extra
+ * diagonal c |m_i| / delta, exact for a hydrostatic field. Centre-held p = 0
+ * puts the surface l0/2 too low: the pressure of a depth h - l0/2, and a
+ * stream turning up a wall loses a third of its force (docs/validation.md).
+ * A particle with no neighbour within re_laplacian keeps p = 0. */
+static void extrapolate_surface(const mps2p_solver *s, ppe_system *sys)
+{
+    const double re = s->params.re_laplacian * s->l0;
+    const double c = 2.0 * 2 / (s->lambda * s->n0_laplacian);
+    const double delta = 0.5 * s->l0;
+    const neighbour_list *nl = &s->neighbours;
+    const double *position = s->state.position;
+    double *extra = sys->surface_diagonal;
+    PARALLEL_FOR(s->params.threads, schedule(static),
+    for (size_t i = 0; i < s->count; i++) {
+        extra[i] = 0.0;
+        if (!sys->surface[i] || s->kind[i] != MPS2P_KIND_FLUID || !takes_part(s, sys, i))
+            continue;
+        double mx = 0.0, my = 0.0;
+        for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
+            size_t j = nl->index[k];
+            /* the system's own particles and the dummies: in two phases the
+             * gas is the missing side too */
+            if (!takes_part(s, sys, j) && s->kind[j] != MPS2P_KIND_DUMMY)
+                continue;
+            double dx = position[2 * j] - position[2 * i];
+            double dy = position[2 * j + 1] - position[2 * i + 1];
+            double r2 = dx * dx + dy * dy;
+            if (r2 >= re * re)
+                continue;
+            double w = kernel_weight(sqrt(r2), re);
+            mx += w * dx;
+            my += w * dy;
+        }
+        extra[i] = c * hypot(mx, my) / delta;
+    });
+}
+
 int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
 {
     /* A window's step shorter than half the chosen dt gets the pressure of a
@@ -253,10 +310,15 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
      * density error out in no time, with a pressure 1/dt^2 too large. */
     dt = fmax(dt, s->ppe_min_dt);
 
+    if (sys->surface_diagonal)
+        extrapolate_surface(s, sys);
+
     /* Number the unknowns in particle order. */
     long unknowns = 0;
-    for (size_t i = 0; i < s->count; i++)
-        s->unknown_of[i] = (takes_part(s, sys, i) && !sys->surface[i]) ? (int)unknowns++ : -1;
+    for (size_t i = 0; i < s->count; i++) {
+        int known = sys->surface[i] && !(sys->surface_diagonal && sys->surface_diagonal[i] > 0.0);
+        s->unknown_of[i] = (takes_part(s, sys, i) && !known) ? (int)unknowns++ : -1;
+    }
     sys->unknowns = (size_t)unknowns;
     sys->iterations = 0;
     sys->residual = 0.0;

@@ -107,6 +107,7 @@ typedef struct ppe_system {
     int hydrostatic_ghosts;     /* dummies and dry walls as ghosts (option wall_ghosts) */
     int density_source;         /* Koshizuka's source gamma (n* - n0) whatever ppe_source */
     int keep_negative;          /* negative pressures kept whatever clamp_negative_pressure */
+    double *surface_diagonal;   /* n, workspace: surface_pressure extrapolated; NULL: centre */
     size_t unknowns, iterations;
     double residual;
 } ppe_system;

@@ -131,7 +131,9 @@ int liquid_pressure_solve(mps2p_solver *s, double dt)
         surface += tp->heavy_surface[i];
     }
     s->surface_particles = surface;
-    /* the liquid's walls and dummies as hydrostatic ghosts, as in one phase */
+    /* the liquid's walls and dummies as hydrostatic ghosts, and its surface's
+     * pressure (next to air too), as in one phase; the workspace is free
+     * again */
     ppe_system heavy = {.part = tp->heavy_part,
                         .surface = tp->heavy_surface,
                         .n_star = tp->heavy_n,
@@ -139,7 +141,11 @@ int liquid_pressure_solve(mps2p_solver *s, double dt)
                         .density = tp->heavy_rho,
                         .pressure = tp->heavy_pressure,
                         .hydrostatic_ghosts =
-                            s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC};
+                            s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC,
+                        .surface_diagonal = s->params.surface_pressure ==
+                                                    SURFACE_PRESSURE_EXTRAPOLATED
+                                                ? s->scratch
+                                                : NULL};
     int status = pressure_assemble_system(s, dt, &heavy);
     if (status == MPS2P_OK)
         status = pressure_solve_system(s, &heavy);
