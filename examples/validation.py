@@ -597,7 +597,8 @@ def tables(out):
     lines = []
     if os.path.exists(os.path.join(out, "still.json")):
         lines += ["", "| tank | scheme | RMS speed after 0.5 s, max (bar) | RMS displacement at "
-                  "the end (bar 0.1 l0) | bottom pressure vs rho g h' (bar 1 %) | bottom row's "
+                  "the end (bar 0.1 l0) | bottom pressure vs rho g h' (bar 1 %; h' to the water's top, "
+                  "or the top row's centres with koshizuka1996) | bottom row's "
                   "spread, max (bar 5 %) |", "|---|---|---|---|---|---|"]
         for r in load("still"):
             lines.append("| %.1f m, %g s | %s | %.2g m/s (%.2g) | %.3f l0 | %+.3f %% | %.3f %% |" % (
