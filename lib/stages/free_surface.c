@@ -1,4 +1,5 @@
-/* Free surface: particles whose p is set to 0 (Dirichlet). Option
+/* Free surface: particles whose p is 0 at their centre, or half a spacing
+ * beyond it (option surface_pressure, stages/pressure.c). Option
  * free_surface:
  *   number_density   n* < beta n0 (Koshizuka and Oka; docs/method.md);
  *   neighbour_count  that, or fewer neighbours within re_density than

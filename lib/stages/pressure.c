@@ -1,8 +1,9 @@
 /* Pressure Poisson equation: assemble the sparse system and solve it.
  *   -<lap p>_i + (rho_i kappa / dt^2) p_i = source_i (see source_term)
- * over fluid and wall particles that are not free surface. Free-surface
- * particles are Dirichlet (p = 0), dummy walls and particles out of the run
- * (MPS2P_KIND_OUT) carry no pressure. The
+ * over fluid and wall particles that are not free surface, and free-surface
+ * fluid particles with surface_pressure extrapolated (extrapolate_surface);
+ * other free-surface particles are Dirichlet (p = 0), dummy walls and
+ * particles out of the run (MPS2P_KIND_OUT) carry no pressure. The
  * compressibility term kappa keeps the matrix positive definite even for a
  * fluid cluster that touches no free surface. */
 #include "numerics/numerics.h"
@@ -79,8 +80,8 @@ static ppe_system single_phase_system(mps2p_solver *s)
                       .density = s->density,
                       .pressure = s->state.pressure,
                       .hydrostatic_ghosts = s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC,
-                      /* the stage workspace is free between the viscosity and
-                       * the correction */
+                      /* the stage workspace: every stage fills it before
+                       * reading it, and only the assembly reads this */
                       .surface_diagonal = s->params.surface_pressure ==
                                                   SURFACE_PRESSURE_EXTRAPOLATED
                                               ? s->scratch
@@ -268,7 +269,9 @@ static int assemble_in_two_passes(mps2p_solver *s, const ppe_system *sys, double
  * diagonal c |m_i| / delta, exact for a hydrostatic field. Centre-held p = 0
  * puts the surface l0/2 too low: the pressure of a depth h - l0/2, and a
  * stream turning up a wall loses a third of its force (docs/validation.md).
- * A particle with no neighbour within re_laplacian keeps p = 0. */
+ * A wall, or a particle whose moment is nil against its neighbours' weight
+ * (none within re_laplacian, or a symmetric neighbourhood to rounding),
+ * keeps p = 0: its row would have nothing to hold it. */
 static void extrapolate_surface(const mps2p_solver *s, ppe_system *sys)
 {
     const double re = s->params.re_laplacian * s->l0;
@@ -282,7 +285,7 @@ static void extrapolate_surface(const mps2p_solver *s, ppe_system *sys)
         extra[i] = 0.0;
         if (!sys->surface[i] || s->kind[i] != MPS2P_KIND_FLUID || !takes_part(s, sys, i))
             continue;
-        double mx = 0.0, my = 0.0;
+        double mx = 0.0, my = 0.0, weight = 0.0;
         for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
             size_t j = nl->index[k];
             /* the system's own particles and the dummies: in two phases the
@@ -297,8 +300,10 @@ static void extrapolate_surface(const mps2p_solver *s, ppe_system *sys)
             double w = kernel_weight(sqrt(r2), re);
             mx += w * dx;
             my += w * dy;
+            weight += w;
         }
-        extra[i] = c * hypot(mx, my) / delta;
+        double moment = hypot(mx, my);
+        extra[i] = moment > 1e-9 * weight * delta ? c * moment / delta : 0.0;
     });
 }
 

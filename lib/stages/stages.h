@@ -95,7 +95,8 @@ int diverged_at(mps2p_solver *s, size_t i, int status);  /* divergence.c */
 /* One PPE over a subset of the particles (pressure.c), for the two phases'
  * solves: part marks the participants (NULL = the fluid in the run and the
  * walls; masks never hold dummies or particles out of the run), surface
- * the Dirichlet ones; n_star, n_start and density enter the source
+ * the free-surface ones (p = 0, or with surface_diagonal unknowns whose
+ * pressure reaches 0 half a spacing out); n_star, n_start and density enter the source
  * (and density the diagonal); pressure holds the warm start on entry and
  * every particle's result on exit (0 for non-participants). */
 typedef struct ppe_system {

@@ -23,10 +23,10 @@
  * only): a light particle reacts when triggered, or enclosed if
  * join_enclosed = 1, or in an enclosed bubble if join_bubbles = 1 (cut off
  * from the gas's free surface: without it only a bubble's outer ring joins,
- * the liquid solve sees a hole where its core is, puts p = 0 on the ring
- * and the water falls into the bubble; docs/two-phase.md, the ladder's
- * third rung), or, with join_hold, when it reacted in the step before and
- * is still inside the liquid.
+ * the liquid solve sees a hole where its core is, holds the ring at the free
+ * surface's zero, and the water falls into the bubble; docs/two-phase.md,
+ * the ladder's third rung), or, with join_hold, when it reacted in the step
+ * before and is still inside the liquid.
  *
  * Reaction (option interface_reaction, one form: drift), the discrete form
  * of delta_al (-grad p)_a in eq. (5), which the paper leaves open: the

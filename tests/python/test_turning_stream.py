@@ -36,7 +36,7 @@ def test_free_streamline_reference():
 
 
 @pytest.mark.xfail(strict=True, reason="the default's collision damper at 0.995 l0 carries a "
-                   "fifth of the force (docs/validation.md, 'A stream turning up a wall')")
+                   "fifth to a quarter of the force (docs/validation.md, 'A stream turning up a wall')")
 def test_default_scheme_carries_the_momentum_flux_as_pressure():
     """The wall's pressure force within 15 % of the stream's momentum flux
     rho U^2 h, as the free-streamline theory (and Buchner's plateau) needs.
