@@ -71,6 +71,13 @@ static double source_term(const mps2p_solver *s, const ppe_system *sys, size_t i
     return scale * ((n_star - n_start) + fabs(n_start - n0) / n0 * (n_start - n0));
 }
 
+/* The stage workspace: every stage fills it before reading it, and only the
+ * assembly reads the surface's diagonal. */
+double *surface_diagonal_of(mps2p_solver *s)
+{
+    return s->params.surface_pressure == SURFACE_PRESSURE_EXTRAPOLATED ? s->scratch : NULL;
+}
+
 /* The single-phase system: every fluid and wall particle, its own density. */
 static ppe_system single_phase_system(mps2p_solver *s)
 {
@@ -80,12 +87,7 @@ static ppe_system single_phase_system(mps2p_solver *s)
                       .density = s->density,
                       .pressure = s->state.pressure,
                       .hydrostatic_ghosts = s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC,
-                      /* the stage workspace: every stage fills it before
-                       * reading it, and only the assembly reads this */
-                      .surface_diagonal = s->params.surface_pressure ==
-                                                  SURFACE_PRESSURE_EXTRAPOLATED
-                                              ? s->scratch
-                                              : NULL,
+                      .surface_diagonal = surface_diagonal_of(s),
                       .unknowns = s->ppe_unknowns};
     return sys;
 }

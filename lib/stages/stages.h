@@ -113,6 +113,9 @@ typedef struct ppe_system {
     double residual;
 } ppe_system;
 int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys);
+/* surface_diagonal for the water's systems: the stage workspace with
+ * surface_pressure extrapolated, NULL with centre (pressure.c). */
+double *surface_diagonal_of(mps2p_solver *s);
 int pressure_solve_system(mps2p_solver *s, ppe_system *sys);
 
 #endif

@@ -132,8 +132,7 @@ int liquid_pressure_solve(mps2p_solver *s, double dt)
     }
     s->surface_particles = surface;
     /* the liquid's walls and dummies as hydrostatic ghosts, and its surface's
-     * pressure (next to air too), as in one phase; the workspace is free
-     * again */
+     * pressure (next to air too), as in one phase */
     ppe_system heavy = {.part = tp->heavy_part,
                         .surface = tp->heavy_surface,
                         .n_star = tp->heavy_n,
@@ -142,10 +141,7 @@ int liquid_pressure_solve(mps2p_solver *s, double dt)
                         .pressure = tp->heavy_pressure,
                         .hydrostatic_ghosts =
                             s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC,
-                        .surface_diagonal = s->params.surface_pressure ==
-                                                    SURFACE_PRESSURE_EXTRAPOLATED
-                                                ? s->scratch
-                                                : NULL};
+                        .surface_diagonal = surface_diagonal_of(s)};
     int status = pressure_assemble_system(s, dt, &heavy);
     if (status == MPS2P_OK)
         status = pressure_solve_system(s, &heavy);
