@@ -4,12 +4,14 @@ break against Martin & Moyce (1952), the impact pressure against Buchner
 Buchner's stream alone turning up the wall, for the default scheme and
 Koshizuka and Oka's (scheme koshizuka1996).
 
-    python3 examples/validation.py still|dam|shift|buchner|turning|stream|all [--quick] [--fine] [--out DIR]
+    python3 examples/validation.py still|dam|shift|buchner|turning|stream|all [--quick] [--fine]
+        [--pysph-python PY] [--out DIR]
     python3 examples/validation.py tables [--out DIR]   # the JSONs as Markdown
 
 Each case writes CSV series, a JSON summary and PNG pictures into DIR
 (default out/validation). --quick runs shorter versions (still water 2 s,
-Buchner at H/l0 = 40 only); --fine adds Buchner at H/l0 = 160. Reference data: data/ (cited in data/README.md).
+Buchner at H/l0 = 40 only); --fine adds Buchner at H/l0 = 160; --pysph-python adds
+PySPH's own Buchner example (its EDAC scheme, H/dx = 40) to the impact figure and table. Reference data: data/ (cited in data/README.md).
 """
 import argparse
 import csv
@@ -377,17 +379,26 @@ def impact(scheme, per_height, H=0.6, end_star=7.0, every_star=0.01):
             break
         p = solver.probe(points)[0] / scale_p
         rows.append((k * every_star, p[0], p[1]))
-    arr = np.array(rows)
+    summary = impact_summary(scheme, per_height, np.array(rows))
+    summary.update({"particles": solver.particle_count, "steps": solver.step_count})
+    return rows, summary
+
+
+def impact_summary(scheme, per_height, arr):
+    """The statistics of a P1 series (rows of t*, P1, ...) against the
+    experiment's: the first time above 0.1, the peak, the plateau over
+    t* = 3-5, the RMS difference over t* = 2-7 and the noise (the RMS of the
+    series less its 0.1 t* moving mean), for the runs of both codes alike."""
     ref = buchner_reference()["P1"]
     t, p1 = arr[:, 0], arr[:, 1]
+    every_star = float(np.median(np.diff(t)))
     window = max(1, int(round(0.1 / every_star)))
     smooth = np.convolve(p1, np.ones(window) / window, mode="same")
     span = (t >= 2.0) & (t <= 7.0)
     above = np.flatnonzero(p1 > 0.1)
     ref_above = np.flatnonzero(ref[:, 1] > 0.1)
     inside = span & (t >= ref[0, 0]) & (t <= ref[-1, 0])
-    summary = {"scheme": scheme, "H_over_l0": per_height, "particles": solver.particle_count,
-               "steps": solver.step_count,
+    summary = {"scheme": scheme, "H_over_l0": per_height,
                "impact_t": float(t[above[0]]) if len(above) else None,
                "impact_t_experiment": float(ref[ref_above[0], 0]),
                "peak": float(p1.max()), "peak_experiment": float(ref[:, 1].max()),
@@ -396,10 +407,70 @@ def impact(scheme, per_height, H=0.6, end_star=7.0, every_star=0.01):
                "rms_difference_2_7": float(np.sqrt(np.mean(
                    (p1[inside] - np.interp(t[inside], ref[:, 0], ref[:, 1])) ** 2))),
                "noise_2_7": float(np.sqrt(np.mean((p1 - smooth)[span] ** 2)))}
+    return summary
+
+
+# Runs in PySPH's interpreter: P1 and P2 from every output file of its
+# db_2d_buchner example (H = 1 there), read as its own post-processing reads
+# its probe (Shepard interpolation over fluid and wall particles), at the
+# sensors' heights and half a spacing inside the wall's face, as ours.
+PYSPH_PROBE = r"""
+import json, sys
+import numpy as np
+from pysph.solver.utils import get_files, iter_output, load
+from pysph.tools.interpolator import Interpolator
+files = get_files(sys.argv[1])
+dx, heights = float(sys.argv[2]), [float(v) for v in sys.argv[3:]]
+first = load(files[0])["arrays"]
+bx, by = first["boundary"].get("x", "y")
+fx = first["fluid"].get("x")
+face = bx[(by > 0.5) & (bx > fx.max())].min() - 0.5 * dx  # the right wall's inner layer
+x = np.full(len(heights), face - 0.5 * dx)
+rows, interp = [], None
+for solver_data, fluid, boundary in iter_output(files, "fluid", "boundary"):
+    if interp is None:
+        interp = Interpolator([fluid, boundary], x=x, y=np.array(heights), method="shepard")
+    else:
+        interp.update_particle_arrays([fluid, boundary])
+    rows.append([float(solver_data["t"])] + [float(v) for v in interp.interpolate("p")])
+print(json.dumps({"rows": rows, "face": float(face),
+                  "particles": int(sum(a.get_number_of_particles() for a in (fluid, boundary)))}))
+"""
+
+
+def pysph_impact(out, python, per_height=40, H=1.0):
+    """PySPH's own Buchner example (pysph.examples.dam_break.db_2d_buchner,
+    H = 1 m, column 2H, tank 5.366 H, 4 wall layers; its EDAC scheme, the one
+    of its schemes that runs this case to the end at H/dx = 40: its WCSPH and
+    Adami-Hu-Adams schemes diverge before the impact) at H/dx = per_height,
+    written every 0.01 t*; P1 and P2 read by PYSPH_PROBE. Its output files
+    (about 300 MB at H/dx = 40) are deleted once read."""
+    import shutil
+    import subprocess
+    dx = H / per_height
+    # its dt: 0.125 h / c0, h = 1.3 dx, c0 = 10 sqrt(2 g H)
+    dt = 0.125 * 1.3 * dx / (10.0 * math.sqrt(2 * G * H))
+    pfreq = max(1, int(round(0.01 * math.sqrt(H / G) / dt)))
+    work = os.path.join(out, "pysph_buchner_%d" % per_height)
+    shutil.rmtree(work, ignore_errors=True)
+    subprocess.run([python, "-m", "pysph.examples.dam_break.db_2d_buchner", "--scheme", "edac",
+                    "--dx", repr(dx), "--pfreq", str(pfreq), "-d", work],
+                   check=True, stdout=subprocess.DEVNULL)
+    probe = subprocess.run([python, "-c", PYSPH_PROBE, work, repr(dx), repr(0.16 / 0.6 * H),
+                            repr(0.584 / 0.6 * H)], check=True, capture_output=True, text=True)
+    read = json.loads(probe.stdout)
+    for name in os.listdir(work):
+        if name.endswith((".npz", ".hdf5")):
+            os.remove(os.path.join(work, name))
+    scale_t, scale_p = math.sqrt(G / H), RHO * G * H
+    rows = [(t * scale_t, p1 / scale_p, p2 / scale_p) for t, p1, p2 in read["rows"]]
+    rows = [r for r in rows if r[0] <= 7.0 + 1e-9]
+    summary = impact_summary("PySPH edac", per_height, np.array(rows))
+    summary.update({"particles": read["particles"], "steps": None})
     return rows, summary
 
 
-def run_buchner(out, quick, fine=False):
+def run_buchner(out, quick, fine=False, pysph_python=None):
     summaries, series = [], {}
     runs = [(s, 40) for s in SCHEMES] + ([] if quick else [("corrected", 80)])
     if fine:  # 58,504 particles, about 45 minutes on one core
@@ -410,6 +481,14 @@ def run_buchner(out, quick, fine=False):
         write_csv(os.path.join(out, "buchner_%s_%d.csv" % (scheme, per_height)),
                   ["t_star", "p1_star", "p2_star"], rows)
         series[(scheme, per_height)] = np.array(rows)
+        summaries.append(s)
+        print("  " + json.dumps(s))
+    if pysph_python:  # about 11 minutes on one core
+        print("impact pressure, PySPH's db_2d_buchner (edac), H/dx = 40")
+        rows, s = pysph_impact(out, pysph_python)
+        write_csv(os.path.join(out, "buchner_pysph_edac_40.csv"),
+                  ["t_star", "p1_star", "p2_star"], rows)
+        series[("PySPH edac", 40)] = np.array(rows)
         summaries.append(s)
         print("  " + json.dumps(s))
     plot_buchner(out, series)
@@ -426,7 +505,15 @@ def plot_buchner(out, series):
     fig, ax = plt.subplots(2, 1, figsize=(10, 7), sharex=True)
     for k, sensor in enumerate(("P1", "P2")):
         for (scheme, per_height), arr in series.items():
-            ax[k].plot(arr[:, 0], arr[:, 1 + k], lw=0.7, label="%s, H/l0 = %d" % (scheme, per_height))
+            if scheme.startswith("PySPH"):  # its noise hides the rest: its 0.1 t* mean drawn over it
+                mean = np.convolve(arr[:, 1 + k], np.ones(10) / 10, mode="same")
+                ax[k].plot(arr[:, 0], arr[:, 1 + k], lw=0.4, color="0.8", zorder=1)
+                ax[k].plot(arr[:, 0], mean, "--", lw=1.2, color="0.3", zorder=3,
+                           label="%s, H/dx = %d (grey; dashed: its 0.1 t* moving mean)"
+                           % (scheme, per_height))
+                continue
+            ax[k].plot(arr[:, 0], arr[:, 1 + k], lw=0.7, zorder=2,
+                       label="%s, H/l0 = %d" % (scheme, per_height))
         ax[k].plot(ref[sensor][:, 0], ref[sensor][:, 1], "ko", ms=3, label="Buchner (2002)")
         ax[k].set_ylabel("%s: p / (rho g H)" % sensor)
         ax[k].set_ylim(-0.1, 1.6)
@@ -666,6 +753,9 @@ def main(argv=None):
     parser.add_argument("--quick", action="store_true", help="shorter runs (see the module help)")
     parser.add_argument("--fine", action="store_true",
                         help="buchner: also H/l0 = 160 (about 45 minutes more)")
+    parser.add_argument("--pysph-python", metavar="PY",
+                        help="buchner: also PySPH's own Buchner example at H/dx = 40 (edac), run "
+                             "with this Python, which has PySPH (about 11 minutes more)")
     parser.add_argument("--out", default=os.path.join("out", "validation"),
                         help="folder for the CSV, JSON and PNG files")
     args = parser.parse_args(argv)
@@ -676,7 +766,7 @@ def main(argv=None):
     cases = (("still", "dam", "shift", "buchner", "turning", "stream") if args.case == "all"
              else (args.case,))
     runners = {"still": run_still, "dam": run_dam, "shift": run_shift,
-               "buchner": lambda out, quick: run_buchner(out, quick, args.fine),
+               "buchner": lambda out, quick: run_buchner(out, quick, args.fine, args.pysph_python),
                "turning": run_turning, "stream": run_stream}
     for case in cases:
         summary = runners[case](args.out, args.quick)

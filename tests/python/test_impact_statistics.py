@@ -1,0 +1,55 @@
+"""The impact-pressure statistics of docs/validation.md ("Impact pressure
+against Buchner"), which read libmps2p's and PySPH's series alike:
+examples/validation.py's impact_summary on series whose answers are known."""
+import importlib.util
+import os
+
+import numpy as np
+import pytest
+
+from conftest import ROOT
+
+spec = importlib.util.spec_from_file_location(
+    "validation", os.path.join(ROOT, "examples", "validation.py"))
+validation = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(validation)
+
+
+def experiment_sampled(every=0.01):
+    """Buchner's P1 series, interpolated every `every` t* from 1.5 to 7."""
+    ref = validation.buchner_reference()["P1"]
+    t = np.arange(1.5, 7.0 + every / 2, every)
+    return np.column_stack([t, np.interp(t, ref[:, 0], ref[:, 1])])
+
+
+def test_the_experiment_against_itself():
+    s = validation.impact_summary("experiment", 0, experiment_sampled())
+    assert s["rms_difference_2_7"] == pytest.approx(0.0, abs=1e-12)
+    # the interpolated series crosses 0.1 between the experiment's last point
+    # below it and its first above (0.019 t* apart there)
+    assert abs(s["impact_t"] - s["impact_t_experiment"]) <= 0.02
+    # the plateau of the interpolated series against the mean of the points in t* = 3-5
+    assert s["plateau_3_5"] == pytest.approx(s["plateau_experiment"], abs=0.01)
+    assert s["peak"] == pytest.approx(s["peak_experiment"], abs=0.02)
+    # the experiment's own series is smooth over 0.1 t*: little noise
+    assert s["noise_2_7"] < 0.03
+
+
+def test_noise_reads_added_white_noise():
+    arr = experiment_sampled()
+    rng = np.random.default_rng(7)
+    noisy = arr.copy()
+    noisy[:, 1] += rng.normal(0.0, 0.2, len(arr))
+    s = validation.impact_summary("noisy", 0, noisy)
+    # white noise less its 10-sample moving mean keeps sqrt(1 - 1/10) of its RMS
+    assert s["noise_2_7"] == pytest.approx(0.2 * np.sqrt(0.9), rel=0.1)
+    assert s["rms_difference_2_7"] == pytest.approx(0.2, rel=0.1)
+
+
+def test_a_late_series_is_late():
+    arr = experiment_sampled()
+    late = np.column_stack([arr[:, 0], np.interp(arr[:, 0] - 0.3, arr[:, 0], arr[:, 1])])
+    on_time = validation.impact_summary("on time", 0, arr)
+    s = validation.impact_summary("late", 0, late)
+    assert s["impact_t"] - on_time["impact_t"] == pytest.approx(0.3, abs=0.011)
+    assert s["rms_difference_2_7"] > 0.1
