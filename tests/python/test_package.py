@@ -81,6 +81,11 @@ def test_the_thin_package_without_a_library_says_how_to_get_one(tmp_path):
     last = failed.stderr.strip().splitlines()[-1]
     assert last.startswith("ImportError: libmps2p not found") and "pip install ." in last \
         and "PKG_CONFIG_PATH" in last and "MPS2P_LIBRARY" in last, last
+    # the command says the same in one line, without a traceback
+    command = shell(bin_dir / "mps2p", "--version", cwd=tmp_path, check=False)
+    assert command.returncode == 2
+    assert command.stderr.strip().splitlines() == [
+        "mps2p: " + last[len("ImportError: "):]], command.stderr
     # MPS2P_LIBRARY alone (a build tree) is enough: its header is found from it
     library = os.path.join(ROOT, "build-release", "lib", "libmps2p.so.0")
     assert os.path.exists(library), "build the library first: ninja -C build-release"
