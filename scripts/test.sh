@@ -35,8 +35,14 @@ rm -f "$rlog"
 
 echo "== release build, install, and an outside program"
 prefix=$(mktemp -d)
-[ -d build-release ] || meson setup build-release --buildtype=release --prefix="$prefix" \
-    -Dpetsc=enabled >/dev/null
+# a developer's build-release gets its own prefix back at the end
+if [ -d build-release ]; then
+    own_prefix=$(meson introspect build-release --buildoptions | python3 -c \
+        'import json, sys; print([o["value"] for o in json.load(sys.stdin) if o["name"] == "prefix"][0])')
+    trap 'meson configure build-release --prefix="$own_prefix" >/dev/null' EXIT
+else
+    meson setup build-release --buildtype=release --prefix="$prefix" -Dpetsc=enabled >/dev/null
+fi
 meson configure build-release --prefix="$prefix" -Dpetsc=enabled >/dev/null
 ninja --quiet -C build-release
 meson install -C build-release --quiet >/dev/null
