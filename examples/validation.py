@@ -424,7 +424,8 @@ dx, heights = float(sys.argv[2]), [float(v) for v in sys.argv[3:]]
 first = load(files[0])["arrays"]
 bx, by = first["boundary"].get("x", "y")
 fx = first["fluid"].get("x")
-face = bx[(by > 0.5) & (bx > fx.max())].min() - 0.5 * dx  # the right wall's inner layer
+# the right wall's inner layer (its particles above the floor's layers, H = 1) less half a spacing
+face = bx[(by > 0.5) & (bx > fx.max())].min() - 0.5 * dx
 x = np.full(len(heights), face - 0.5 * dx)
 rows, interp = [], None
 for solver_data, fluid, boundary in iter_output(files, "fluid", "boundary"):
@@ -433,12 +434,12 @@ for solver_data, fluid, boundary in iter_output(files, "fluid", "boundary"):
     else:
         interp.update_particle_arrays([fluid, boundary])
     rows.append([float(solver_data["t"])] + [float(v) for v in interp.interpolate("p")])
-print(json.dumps({"rows": rows, "face": float(face),
+print(json.dumps({"rows": rows,
                   "particles": int(sum(a.get_number_of_particles() for a in (fluid, boundary)))}))
 """
 
 
-def pysph_impact(out, python, per_height=40, H=1.0):
+def pysph_impact(out, python, per_height=40):
     """PySPH's own Buchner example (pysph.examples.dam_break.db_2d_buchner,
     H = 1 m, column 2H, tank 5.366 H, 4 wall layers; its EDAC scheme, the one
     of its schemes that runs this case to the end at H/dx = 40: its WCSPH and
@@ -447,6 +448,7 @@ def pysph_impact(out, python, per_height=40, H=1.0):
     (about 300 MB at H/dx = 40) are deleted once read."""
     import shutil
     import subprocess
+    H = 1.0  # the example's column height, fixed there
     dx = H / per_height
     # its dt: 0.125 h / c0, h = 1.3 dx, c0 = 10 sqrt(2 g H)
     dt = 0.125 * 1.3 * dx / (10.0 * math.sqrt(2 * G * H))
