@@ -59,6 +59,23 @@ def test_a_run_ends_at_its_end_time(tmp_path):
     assert json.loads((tmp_path / "summary.json").read_text())["time"] == 0.3
 
 
+def test_a_front_with_no_water_low_enough_yet_is_no_value_not_an_error(tmp_path):
+    # a block falling from 0.3 m: its front probe has no particle below 0.02 m
+    # at first (nan in series.csv, no row in results.h5), and the run goes on
+    scene = tmp_path / "drop.toml"
+    scene.write_text(dam_break_text().replace("box = [0.0, 0.0, 0.15, 0.3]",
+                                              "box = [0.0, 0.3, 0.1, 0.4]"))
+    result = mps2p("run", str(scene), "--out", str(tmp_path / "o"), "--until", "0.3",
+                   "--no-pictures", "--quiet")
+    assert result.returncode == 0, result.stderr
+    csv = np.genfromtxt(tmp_path / "o" / "series.csv", delimiter=",", names=True)
+    assert np.isnan(csv["front"][0]) and np.isfinite(csv["front"][-1])
+    import mps2p as package
+    with package.open_results(str(tmp_path / "o" / "results.h5")) as r:
+        front = r.series["front"]
+    assert len(front) == np.isfinite(csv["front"]).sum() < len(csv)
+
+
 def test_info_with_a_scene_describes_it_without_running():
     result = mps2p("info", os.path.join(SCENES, "hydrostatic.toml"))
     assert result.returncode == 0, result.stderr

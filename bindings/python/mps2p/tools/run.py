@@ -127,7 +127,8 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False):
             values = probes.sample(solver)
             rows.append([solver.time, solver.step_count] + values)
             for name, value in zip(probes.names, values):
-                results.append_series(name, solver.time, value)
+                if math.isfinite(value):  # nan: a front with no water low enough yet
+                    results.append_series(name, solver.time, value)
 
         def snapshot(force_picture=False):
             results.write_snapshot(solver)
@@ -214,7 +215,7 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False):
                 k = probes.names.index(p["name"])
                 data = np.array([[r[0], r[2 + k]] for r in rows])
                 front_picture(os.path.join(out_dir, "front.png"), data, p["column_width"],
-                              title, origin=origin, wall=wall)
+                              title, origin=origin, wall=wall, spacing=scene_file.l0)
     solver.close()
     return summary
 
