@@ -36,7 +36,7 @@ def main():
     tank = scene.data["tank"][0]["box"]  # as mps2p run's front.png
     front_picture(args.out, front_series(args.run), probe["column_width"], scene.name,
                   origin=tank[0], wall=tank[2], label=args.labels[0],
-                  others=[(args.labels[1], front_series(args.other))])
+                  others=[(args.labels[1], front_series(args.other))], spacing=scene.l0)
     print("front picture:", args.out)
 
 

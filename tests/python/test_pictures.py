@@ -5,6 +5,7 @@ with its own colour scale."""
 import os
 import re
 
+import numpy as np
 import pytest
 
 from mps2p.tools import pictures
@@ -103,3 +104,18 @@ def test_two_fluid_pictures_tell_them_apart(figures, tmp_path):
     bars = [ax.get_ylabel() for ax in drawn["snapshots.png"].axes
             if ax.get_ylabel().endswith("pressure (Pa)")]
     assert bars == ["water pressure (Pa)", "air pressure (Pa)"]
+
+
+def test_the_front_curve_ends_where_the_water_first_touches_the_wall():
+    # the paper's case: a = 0.15 m, wall 0.6 m, l0 = 0.01 m; the front (largest x
+    # + l0/2) touched the wall at 0.596 m, fell back to 0.585 m and came again:
+    # the curve used to run on past that first touch (a margin of 0.02 in Z,
+    # 3 mm, under the gap the water keeps at the wall)
+    t = np.array([0.20, 0.25, 0.26, 0.27, 0.28, 0.30])
+    x = np.array([0.50, 0.58, 0.596, 0.585, 0.597, 0.599])
+    T, Z = pictures._front_curve(np.column_stack([t, x]), 0.15, 0.0, 4.0, 9.81, 0.01)
+    assert len(Z) == 3 and Z[-1] == pytest.approx(0.596 / 0.15)
+    # a front not yet at the wall is drawn whole, its missing samples left out
+    x_early = np.array([np.nan, 0.2, 0.3, 0.4, 0.5, 0.55])
+    T, Z = pictures._front_curve(np.column_stack([t, x_early]), 0.15, 0.0, 4.0, 9.81, 0.01)
+    assert len(Z) == 5 and np.all(np.isfinite(Z))

@@ -242,30 +242,34 @@ def martin_moyce():
             for a in np.unique(data[:, 0])}
 
 
-def _front_curve(front, column_width, origin, Z_wall, g):
+def _front_curve(front, column_width, origin, Z_wall, g, spacing):
     t, x = front[:, 0], front[:, 1]
     keep = np.isfinite(x)
     T = t[keep] * np.sqrt(2 * g / column_width)
     Z = (x[keep] - origin) / column_width
     if Z_wall is not None:
-        reached = np.flatnonzero(Z >= Z_wall - 0.02)
+        # the water touches the wall with its front within a spacing of it (a
+        # gap of a fraction of l0 stays): the first such sample ends the curve
+        margin = spacing / column_width if spacing else 0.02
+        reached = np.flatnonzero(Z >= Z_wall - margin)
         if reached.size:
             T, Z = T[:reached[0] + 1], Z[:reached[0] + 1]
     return T, Z
 
 
 def front_picture(path, front, column_width, title, origin=0.0, wall=None, g=9.81,
-                  label="libmps2p", others=()):
+                  label="libmps2p", others=(), spacing=None):
     """Surge front Z = (x - origin)/a against T = t sqrt(2g/a), with Martin &
     Moyce (1952) and the opposite wall at x = `wall` (m) as a line; the
     curve stops where the front reaches the wall (beyond, Z means nothing).
-    others: (label, front) pairs drawn beside it (another run's front)."""
+    others: (label, front) pairs drawn beside it (another run's front);
+    spacing: l0, within which of the wall the front counts as arrived."""
     Z_wall = (wall - origin) / column_width if wall is not None else None
-    T, Z = _front_curve(front, column_width, origin, Z_wall, g)
+    T, Z = _front_curve(front, column_width, origin, Z_wall, g, spacing)
     fig, ax = plt.subplots(figsize=(6.5, 4.8), layout="constrained")
     ax.plot(T, Z, "-", lw=1.6, label=label)
     for other_label, other in others:
-        other_T, other_Z = _front_curve(other, column_width, origin, Z_wall, g)
+        other_T, other_Z = _front_curve(other, column_width, origin, Z_wall, g, spacing)
         ax.plot(other_T, other_Z, "--", lw=1.4, label=other_label)
     for (a_inch, (ref_T, ref_Z)), marker in zip(sorted(martin_moyce().items(), reverse=True),
                                                "osd^"):
