@@ -162,6 +162,15 @@ def test_a_closed_pipe_ends_the_command_quietly():
     assert first.stdout.startswith("libmps2p ") and first.stderr == "", first
 
 
+@pytest.mark.parametrize("module", ["mps2p", "mps2p.tools.ladder"])
+def test_python_m_without_a_library_is_one_line_and_exit_2(module):
+    env = dict(os.environ, MPS2P_LIBRARY=os.path.join(os.sep, "nonexistent", "libmps2p.so.0"))
+    env["PYTHONPATH"] = PACKAGE_DIR + os.pathsep + env.get("PYTHONPATH", "")
+    result = subprocess.run([sys.executable, "-m", module, "run", "dam_break"],
+                            capture_output=True, text=True, env=env)
+    expect_bad_input(result, "MPS2P_LIBRARY", "nonexistent")
+
+
 def test_version():
     result = mps2p("--version")
     assert result.returncode == 0, result.stderr

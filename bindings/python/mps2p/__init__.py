@@ -13,6 +13,17 @@ the study, the stability checks, pictures, the command) are mps2p.tools.
     solver.advance_to(0.3)
     xy = solver.positions()            # (n, 2) numpy array, a copy
 """
+import sys
+
+try:
+    from . import _native  # loads libmps2p
+except ImportError as _error:
+    # `python3 -m mps2p ...` (Python sets argv[0] to "-m" while it imports the
+    # package): a command, so one line and exit status 2, as the `mps2p` command
+    if sys.argv[:1] == ["-m"]:
+        print("mps2p: %s" % _error, file=sys.stderr)
+        raise SystemExit(2) from None
+    raise
 from . import errors, results
 from ._core import version as _version
 from ._native import header_path, library_path
