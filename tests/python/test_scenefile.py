@@ -82,6 +82,22 @@ def test_wrong_files_name_the_file_key_and_reason(tmp_path, change, key, reason)
     assert message.startswith(path + ": ") and key in message and reason in message, message
 
 
+@pytest.mark.parametrize("change, named", [
+    # a fluid box reaching into the tank's wall (the library finds two particles
+    # in one place), and two fluid boxes over each other
+    (("box = [0.0, 0.0, 0.16, 0.3]", "box = [0.4, 0.0, 0.7, 0.2]"),
+     "fluid_box[0] overlaps tank[0]: particles"),
+    (("[[tank]]", "[[fluid_box]]\nfluid = \"water\"\nbox = [0.1, 0.1, 0.2, 0.2]\n[[tank]]"),
+     "fluid_box[0] overlaps fluid_box[1]: particles"),
+])
+def test_overlapping_items_are_named(tmp_path, change, named):
+    assert change[0] in GOOD
+    path = write(tmp_path, GOOD.replace(change[0], change[1], 1))
+    with pytest.raises(mps2p.SceneFileError) as caught:
+        scenefile.load(path).make_solver()
+    assert str(caught.value).startswith(path + ": " + named), str(caught.value)
+
+
 def test_every_problem_at_once(tmp_path):
     """A file with three mistakes in its structure names all three, one line
     each, and not yet its value's mistake (end_time); once the structure is

@@ -128,9 +128,28 @@ class SceneFile:
             try:
                 return Solver(scene)
             except errors.Error as e:
-                raise errors.SceneFileError("%s: %s" % (self.path, e)) from e
+                raise errors.SceneFileError("%s: %s%s" % (self.path, self._overlap(str(e)), e)) \
+                    from e
+
+    def _overlap(self, message):
+        """"fluid_box[0] overlaps tank[0]: " for the library's message about
+        two particles too close together, from the items that added them."""
+        found = re.match(r"particles (\d+) and (\d+) are ", message)
+        if not found:
+            return ""
+        keys = []
+        for index in map(int, found.groups()):
+            # the first item whose particles reach past the index added it
+            keys.append(next((key for key, end in self._added if index < end), None))
+        if None in keys:
+            return ""
+        if keys[0] == keys[1]:
+            return "%s: " % keys[0]
+        return "%s overlaps %s: " % tuple(keys)
 
     def _build_into(self, scene):
+        self._added = []  # (key, particle count after it), to name overlapping items
+
         def call(key, function, *args):
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always", errors.SnapWarning)
@@ -138,6 +157,7 @@ class SceneFile:
                     result = function(*args)
                 except (errors.Error, TypeError, ValueError) as e:
                     raise self.error(key, str(e)) from e
+            self._added.append((key, scene.particle_count))
             for w in caught:  # the same warning, naming the file and key
                 warnings.warn("%s: %s: %s" % (self.path, key, w.message), w.category,
                               stacklevel=4)
