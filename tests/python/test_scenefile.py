@@ -4,6 +4,7 @@ import glob
 import json
 import os
 import textwrap
+import warnings
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -96,6 +97,22 @@ def test_overlapping_items_are_named(tmp_path, change, named):
     with pytest.raises(mps2p.SceneFileError) as caught:
         scenefile.load(path).make_solver()
     assert str(caught.value).startswith(path + ": " + named), str(caught.value)
+
+
+@pytest.mark.parametrize("box, warned", [
+    ("[1.0, 0.0, 1.2, 0.2]", True),   # beside the tank
+    ("[0.0, 0.6, 0.16, 0.8]", False),  # over its open top: falls in
+    ("[0.0, 0.0, 0.16, 0.3]", False),
+])
+def test_a_fluid_box_outside_every_tank_is_warned_of(tmp_path, box, warned):
+    path = write(tmp_path, GOOD.replace("box = [0.0, 0.0, 0.16, 0.3]", "box = " + box, 1))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        scenefile.load(path).build().close()
+    outside = [str(w.message) for w in caught if "outside every tank" in str(w.message)]
+    assert len(outside) == int(warned), outside
+    if warned:
+        assert outside[0].startswith(path + ": fluid_box[0]: ")
 
 
 def test_every_problem_at_once(tmp_path):
