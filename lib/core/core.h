@@ -159,6 +159,7 @@ typedef struct params {
     double collision_distance;
     double collision_time;
     double collision_restitution;
+    double shifting;
     double ppe_relaxation;
     double compressibility;
     double clamp_negative_pressure;

@@ -41,6 +41,10 @@ static const param_entry table[] = {
      "collision_time sqrt(l0 / |g|); 0, or no gravity, = all of it every step"},
     {"collision_restitution", FIELD(collision_restitution), 0.2, 0.0, 1.0,
      "restitution coefficient of the collision model"},
+    {"shifting", FIELD(shifting), 0.04, 0.0, 1.0,
+     "particle shifting: a fluid particle off the free surface moves shifting |u_i| dt "
+     "sum_j (rbar_i / r_ij)^2 e_ji a step, away from close neighbours (single phase); "
+     "0 = off"},
     {"ppe_relaxation", FIELD(ppe_relaxation), 0.2, 1e-6, 1.0,
      "relaxation factor on the PPE source term"},
     {"compressibility", FIELD(compressibility), 4.5e-10, 0.0, 1.0,
@@ -131,12 +135,12 @@ static const param_entry table[] = {
 
 /* The named schemes (option "scheme"): each sets the pressure gradient, the
  * PPE source, the walls' ghosts, the Laplacian radius, the collision
- * distance and time, and the gravity limit on dt together. The first is the default; docs/validation.md measures
+ * distance and time, the gravity limit on dt and particle shifting together. The first is the default; docs/validation.md measures
  * both and says why the default is what it is. */
 typedef struct scheme_entry {
     const char *name;
     int pressure_gradient, ppe_source, wall_ghosts, surface_pressure;
-    double re_laplacian, collision_distance, collision_time, gravity_number;
+    double re_laplacian, collision_distance, collision_time, gravity_number, shifting;
 } scheme_entry;
 
 static const scheme_entry schemes[] = {
@@ -145,10 +149,10 @@ static const scheme_entry schemes[] = {
      * every approaching pair closer than the lattice spacing at a rate that
      * does not grow as dt shrinks, a gravity limit on dt */
     {"corrected", GRADIENT_CORRECTED, PPE_SOURCE_ECS, WALL_GHOSTS_HYDROSTATIC,
-     SURFACE_PRESSURE_EXTRAPOLATED, 3.1, 0.995, 0.03, 0.03},
+     SURFACE_PRESSURE_EXTRAPOLATED, 3.1, 0.995, 0.03, 0.03, 0.04},
     /* Koshizuka and Oka (1996), as docs/method.md restates it: the paper's scheme */
     {"koshizuka1996", GRADIENT_MINIMUM, PPE_SOURCE_DENSITY, WALL_GHOSTS_NONE,
-     SURFACE_PRESSURE_CENTRE, 4.0, 0.5, 0.0, 0.0},
+     SURFACE_PRESSURE_CENTRE, 4.0, 0.5, 0.0, 0.0, 0.0},
 };
 #define SCHEME_COUNT (sizeof schemes / sizeof schemes[0])
 
@@ -162,6 +166,7 @@ static void scheme_apply(params *p, const scheme_entry *e)
     p->collision_distance = e->collision_distance;
     p->collision_time = e->collision_time;
     p->gravity_number = e->gravity_number;
+    p->shifting = e->shifting;
 }
 
 /* The scheme the settings are, or NULL when one of them was changed. */
@@ -173,7 +178,8 @@ static const scheme_entry *scheme_of(const params *p)
             p->wall_ghosts == e->wall_ghosts && p->surface_pressure == e->surface_pressure &&
             p->re_laplacian == e->re_laplacian &&
             p->collision_distance == e->collision_distance &&
-            p->collision_time == e->collision_time && p->gravity_number == e->gravity_number)
+            p->collision_time == e->collision_time && p->gravity_number == e->gravity_number &&
+            p->shifting == e->shifting)
             return e;
     }
     return NULL;
@@ -490,7 +496,7 @@ int mps2p_param_count(size_t *count)
 /* The options, then "scheme" (it sets several of the others). */
 #define SCHEME_DESCRIPTION                                                                 \
     "sets pressure_gradient, ppe_source, wall_ghosts, surface_pressure, re_laplacian, "    \
-    "collision_distance, collision_time and gravity_number together "                      \
+    "collision_distance, collision_time, gravity_number and shifting together "            \
     "(docs/validation.md); reads custom once one of them differs"
 
 int mps2p_option_count(size_t *count)

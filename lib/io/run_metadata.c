@@ -89,6 +89,7 @@ int h5_read_parameters(h5_context *ctx, hid_t file, params *out)
         /* files from before the corrected scheme: no gravity limit on dt, the
          * collision impulse in full every step; from before the two-phase
          * ladder: the paper's trigger, no whole bubbles joining; from before
+         * particle shifting: none; from before
          * the gas's damping layer: an open top; from before out_limit: any
          * fluid particle leaving the domain diverges */
         double *before = strcmp(key, "gravity_number") == 0   ? &out->gravity_number
@@ -97,6 +98,7 @@ int h5_read_parameters(h5_context *ctx, hid_t file, params *out)
                          : strcmp(key, "join_bubbles") == 0   ? &out->join_bubbles
                          : strcmp(key, "gas_buffer_depth") == 0 ? &out->gas_buffer_depth
                          : strcmp(key, "out_limit") == 0      ? &out->out_limit
+                         : strcmp(key, "shifting") == 0       ? &out->shifting
                                                               : NULL;
         if (before && H5Aexists(group, key) == 0) {
             *before = 0.0;

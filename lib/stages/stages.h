@@ -61,6 +61,10 @@ void pressure_gradient_at(const mps2p_solver *s, size_t i, const double *pressur
  * the single phase's and the two phases' corrections end with it. */
 void correction_apply(mps2p_solver *s, const double *change, double dt);
 
+/* Particle shifting after the single phase's correction, when parameter
+ * shifting is above 0 (correction.c). */
+void particles_shift(mps2p_solver *s, double dt);
+
 /* ---- the time step (timestep.c) ---- */
 
 double timestep_choose(const mps2p_solver *s);
