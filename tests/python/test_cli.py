@@ -272,6 +272,11 @@ def test_a_schedule_too_fine_to_keep_is_refused(tmp_path, key):
     assert not (tmp_path / "o").exists()
 
 
+def test_an_until_too_long_for_the_schedule_names_until():
+    result = mps2p("run", "dam_break", "--until", "1e9")
+    expect_bad_input(result, "--until 1e+09 with run.snapshot_every", "snapshots")
+
+
 @pytest.mark.parametrize("until", ["inf", "nan", "-1", "soon"])
 def test_a_bad_until_is_bad_input(until):
     result = mps2p("run", "dam_break", "--until", until)

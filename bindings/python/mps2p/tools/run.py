@@ -88,7 +88,10 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False):
                                     % (scene_path, until))
     problem = check_schedule(end, scene_file.snapshot_every, scene_file.series_every)
     if problem:
-        raise errors.SceneFileError("%s: %s: %s" % ((scene_path,) + problem))
+        key, reason = problem
+        if until is not None:  # the file's schedule was fine up to its own end_time
+            key = "--until %g with %s" % (end, key)
+        raise errors.SceneFileError("%s: %s: %s" % (scene_path, key, reason))
     if pictures and not pictures_available():
         print("mps2p: warning: no pictures: matplotlib is not installed "
               "(pip install matplotlib)", file=sys.stderr)
