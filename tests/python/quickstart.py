@@ -7,4 +7,4 @@ with mps2p.Scene(0.01) as scene:                       # particle spacing l0 = 0
     solver = mps2p.Solver(scene)                       # copies the scene
 solver.advance_to(0.3, progress=True)                  # to t = 0.3 s, with a progress bar
 print("front at x = %.3f m after %d steps" % (solver.front(water, below=0.02), solver.step_count))
-print(solver.positions().shape, "particles; max speed %.2f m/s" % solver.stat("max_speed"))
+print(solver.positions().shape, "particles, walls too; max speed %.2f m/s" % solver.stat("max_speed"))

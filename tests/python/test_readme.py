@@ -27,7 +27,7 @@ def test_the_python_quick_start_is_the_program_run_here():
     front, particles = done.stdout.splitlines()
     match = re.fullmatch(r"front at x = (\d\.\d{3}) m after (\d+) steps", front)
     assert match and 0.3 < float(match.group(1)) < 0.62 and int(match.group(2)) > 100, front
-    assert particles.startswith("(1282, 2) particles; max speed "), particles
+    assert particles.startswith("(1282, 2) particles, walls too; max speed "), particles
     assert "0.3/0.3 s" in done.stderr  # the progress bar reached the end
 
 

@@ -28,7 +28,8 @@ _HERE = os.path.dirname(os.path.abspath(__file__))
 _CHECKOUT_HEADER = os.path.normpath(os.path.join(_HERE, "..", "..", "..", "include", HEADER))
 HOW_TO_INSTALL = (
     "install the self-contained package from the checkout's root (pip install .), "
-    "or `meson install` the library and put its lib/pkgconfig folder on PKG_CONFIG_PATH, "
+    "or `meson install` the library and put the folder of its mps2p.pc (lib/pkgconfig, or "
+    "lib/<multiarch>/pkgconfig on Debian) on PKG_CONFIG_PATH, "
     "or set MPS2P_LIBRARY to the library (and MPS2P_HEADER to its mps2p.h when it is "
     "not beside it, in its prefix's include/ or in a build tree's checkout; "
     "docs/python.md)")

@@ -85,6 +85,11 @@ class _MissingFile(FileError, FileNotFoundError):
     """A FileError that is also what open() raises for a missing file."""
 
 
+# shown as what a user catches (mps2p.FileError), not as this private class
+_MissingFile.__name__ = _MissingFile.__qualname__ = "FileError"
+_MissingFile.__module__ = "mps2p"
+
+
 def _open_hdf5(h5py, path):
     """h5py.File(path, "r"), with HDF5's messages turned into a FileError
     that names the file and says what to open instead."""
