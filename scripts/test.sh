@@ -62,6 +62,10 @@ out=$(mktemp -d)
 "${CC:-gcc}" -std=c11 -Wall -Wextra -Werror tests/consumer/consumer.c -o "$out/consumer" \
     $(pkg-config --cflags --libs mps2p) -lm -Wl,-rpath,"$(pkg-config --variable=libdir mps2p)"
 "$out/consumer"
+# mps2p.h needs none of the library's dependencies: none in the .pc file (pkg-config
+# resolves Requires.private for --cflags too: PETSc's absent .pc would fail it)
+[ -z "$(pkg-config --print-requires-private mps2p)" ] ||
+    { echo "mps2p.pc requires privately: $(pkg-config --print-requires-private mps2p)"; exit 1; }
 
 echo "== Python binding, installed, against the installed library"
 python3 -m pip install -q --disable-pip-version-check --root-user-action=ignore --no-deps \
