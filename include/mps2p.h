@@ -175,9 +175,10 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *                                 not grow as dt shrinks; 0 = all every step (0)
  *   collision_restitution   0.2   restitution of the collision model
  *   shifting              * 0.04  particle shifting: a fluid particle off the free
- *                                 surface moves shifting |u_i| dt sum_j
- *                                 (rbar_i / r_ij)^2 e_ji a step, away from close
- *                                 neighbours (single phase); 0 = off (0)
+ *                                 surface moves shifting u_max dt sum_j
+ *                                 (rbar_i / r_ij)^2 e_ji a step (u_max the fastest
+ *                                 fluid speed), away from close neighbours (single
+ *                                 phase); 0 = off (0)
  *   ppe_relaxation          0.2   factor on the PPE source term
  *   compressibility         4.5e-10  1/Pa, on the PPE diagonal; keeps a fluid
  *                                 cluster without free surface solvable

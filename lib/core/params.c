@@ -42,9 +42,9 @@ static const param_entry table[] = {
     {"collision_restitution", FIELD(collision_restitution), 0.2, 0.0, 1.0,
      "restitution coefficient of the collision model"},
     {"shifting", FIELD(shifting), 0.04, 0.0, 1.0,
-     "particle shifting: a fluid particle off the free surface moves shifting |u_i| dt "
-     "sum_j (rbar_i / r_ij)^2 e_ji a step, away from close neighbours (single phase); "
-     "0 = off"},
+     "particle shifting: a fluid particle off the free surface moves shifting u_max dt "
+     "sum_j (rbar_i / r_ij)^2 e_ji a step (u_max the fastest fluid speed), away from close "
+     "neighbours (single phase); 0 = off"},
     {"ppe_relaxation", FIELD(ppe_relaxation), 0.2, 1e-6, 1.0,
      "relaxation factor on the PPE source term"},
     {"compressibility", FIELD(compressibility), 4.5e-10, 0.0, 1.0,
