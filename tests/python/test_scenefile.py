@@ -58,6 +58,8 @@ def test_a_good_scene_builds(tmp_path):
     (("fluid = \"water\"", "fluid = \"oil\""), "fluid_box[0].fluid", "no fluid named 'oil'"),
     (("density = 1000.0", "density = -5.0"), "fluid[0]", "density"),
     (("[[tank]]", "[parameters]\ncfl = 5.0\n[[tank]]"), "parameters.cfl", "cfl"),
+    (("end_time = 0.02", "end_tme = 0.02"), "run.end_tme", "unknown key, did you mean end_time?"),
+    (("[[tank]]", "[[tnk]]"), "tnk", "unknown table, did you mean tank?"),
     (("[[tank]]", "[parameters]\nwarp = 1.0\n[[tank]]"), "parameters.warp", "warp"),
     (("[[tank]]", "[options]\npressure_solver = 3\n[[tank]]"), "options.pressure_solver",
      "string"),

@@ -35,6 +35,7 @@ Layout (every table is optional unless marked):
       type = "count"            #   fluid = "water": its particles (all, not only in the domain)
       type = "stat"             #   stat = "kinetic_energy" (any solver statistic)
 """
+import difflib
 import math
 import os
 import re
@@ -293,7 +294,8 @@ def check(path, data):
     known = set(SCHEMA) | {"parameters", "options", "effects"}
     for key in data:
         if key not in known:
-            fail(key, "unknown table (known: %s)" % ", ".join(sorted(known)))
+            fail(key, "unknown table%s (known: %s)"
+                 % (_did_you_mean(key, known), ", ".join(sorted(known))))
     if "run" not in data:
         fail("run", "missing: a scene needs [run] with l0 and end_time")
     for section in ("parameters", "options", "effects"):
@@ -329,8 +331,8 @@ def check(path, data):
                 continue
             for key, value in entry.items():
                 if key not in fields:
-                    fail("%s.%s" % (label, key),
-                         "unknown key (known: %s)" % ", ".join(sorted(fields)))
+                    fail("%s.%s" % (label, key), "unknown key%s (known: %s)"
+                         % (_did_you_mean(key, fields), ", ".join(sorted(fields))))
                 else:
                     _check_value(fail, "%s.%s" % (label, key), fields[key], value)
             for key in sorted(required - set(entry)):
@@ -375,6 +377,13 @@ def check_schedule(end_time, snapshot_every, series_every):
                          % (every, end_time / every, what, end_time, most,
                             " or 0 (every step)" if what == "samples" else ""))
     return None
+
+
+def _did_you_mean(key, known):
+    """", did you mean end_time?" for a near miss (as the library says for
+    parameters), else ""."""
+    close = difflib.get_close_matches(key, sorted(known), n=1, cutoff=0.75)
+    return ", did you mean %s?" % close[0] if close else ""
 
 
 def default_name(path):
