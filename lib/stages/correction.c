@@ -49,26 +49,31 @@ int pressure_correct(mps2p_solver *s, double dt)
         du[1] = -dt / s->density[i] * gradient[1];
     });
     correction_apply(s, change, dt);
-    if (s->params.shifting > 0.0)
-        particles_shift(s, dt);
-    return MPS2P_OK;
+    return s->params.shifting > 0.0 ? particles_shift(s, dt) : MPS2P_OK;
 }
 
 /* Particle shifting (parameter shifting, C): a fluid particle off the free
  * surface moves by C u_max dt sum_j (rbar_i / r_ij)^2 e_ji over its
  * neighbours within re_density, u_max the fastest fluid particle's speed,
  * rbar_i their mean distance and e_ji the unit vector from j to i: away from
- * close neighbours, into gaps (Xu, Stansby and Laurence 2009). With the CFL
- * limit on dt a shift is at most C cfl l0 times the sum. The fastest speed,
+ * close neighbours, into gaps (Xu, Stansby and Laurence 2009). The fastest speed,
  * not each particle's own (Lind et al. 2012): where a stream turns up a
  * wall the slow particles by the wall are the strained ones (measured: the
  * wall pressure's scatter 0.75 with their own speed, 0.59 with the fastest,
- * 0.81 without; docs/validation.md). Zero on a regular lattice and at rest,
- * so still water is left alone; the velocity is not changed. Every shift is
- * taken from the positions before any moves: the same bits for any number of
- * threads. */
-void particles_shift(mps2p_solver *s, double dt)
+ * 0.81 without; docs/validation.md). Zero inside a regular lattice and at
+ * rest, so still water is left alone; a particle under the free surface,
+ * whose row above is short of neighbours without being surface itself, is
+ * pushed toward the surface while the flow moves (Lind et al. shift only
+ * along the surface there: not done). The velocity is not changed. Every
+ * shift is taken from the positions before any moves: the same bits for any
+ * number of threads. */
+int particles_shift(mps2p_solver *s, double dt)
 {
+    /* the correction moved the particles since the list's last check: a pair
+     * it brought within re_density must be in it */
+    int status = neighbours_refresh(s, dt);
+    if (status != MPS2P_OK)
+        return status;
     const double re = s->params.re_density * s->l0;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     double *position = s->state.position, *shift = s->scratch;
@@ -112,6 +117,7 @@ void particles_shift(mps2p_solver *s, double dt)
         position[2 * i] += shift[2 * i];
         position[2 * i + 1] += shift[2 * i + 1];
     });
+    return MPS2P_OK;
 }
 
 void correction_apply(mps2p_solver *s, const double *change, double dt)

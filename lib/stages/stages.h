@@ -63,7 +63,7 @@ void correction_apply(mps2p_solver *s, const double *change, double dt);
 
 /* Particle shifting after the single phase's correction, when parameter
  * shifting is above 0 (correction.c). */
-void particles_shift(mps2p_solver *s, double dt);
+int particles_shift(mps2p_solver *s, double dt);
 
 /* ---- the time step (timestep.c) ---- */
 

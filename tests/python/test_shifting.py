@@ -11,17 +11,18 @@ import mps2p
 L0, DT = 0.01, 1e-3
 
 
-def one_step(shifting, offset):
+def one_step(shifting, offset, row=5):
     """A 20 x 10 block of water moving right at 0.5 m/s without gravity in a
-    closed box, the particle at the block's middle moved `offset` l0 toward
-    its right neighbour; positions and velocities after one step."""
+    closed box, the particle in the block's middle column and the given row
+    moved `offset` l0 toward its right neighbour; positions, velocities and
+    kinds after one step, and that particle's index."""
     with mps2p.Scene(L0) as scene:
         scene.set(gravity_y=0.0, dt=DT, shifting=shifting)
         water = scene.add_fluid("water", 1000.0, 1e-6)
         xs = L0 * (np.arange(20) + 0.5) + 0.1
         ys = L0 * (np.arange(10) + 0.5)
         grid = np.array(np.meshgrid(xs, ys, indexing="ij")).reshape(2, -1).T
-        middle = int(np.argmin(np.hypot(grid[:, 0] - xs[10], grid[:, 1] - ys[5])))
+        middle = int(np.argmin(np.hypot(grid[:, 0] - xs[10], grid[:, 1] - ys[row])))
         grid[middle, 0] += offset * L0
         velocity = np.zeros_like(grid)
         velocity[:, 0] = 0.5
@@ -62,6 +63,17 @@ def test_a_regular_lattice_is_not_shifted():
     shifted, _, _, _ = one_step(0.04, 0.0)
     # inside a regular block every neighbour has its opposite: no shift
     assert np.allclose(shifted[middle], plain[middle], rtol=0, atol=1e-15)
+
+
+def test_the_free_surface_is_not_shifted():
+    # the block's top row is free surface: a crowded particle there stays
+    plain, _, _, top = one_step(0.0, 0.3, row=9)
+    shifted, _, _, _ = one_step(0.04, 0.3, row=9)
+    assert np.array_equal(shifted[top], plain[top])
+    # while the same particle one row down is shifted
+    plain, _, _, below = one_step(0.0, 0.3, row=8)
+    shifted, _, _, _ = one_step(0.04, 0.3, row=8)
+    assert not np.array_equal(shifted[below], plain[below])
 
 
 def test_the_schemes_set_it():
