@@ -15,12 +15,22 @@ the study, the stability checks, pictures, the command) are mps2p.tools.
 """
 import sys
 
+
+def _run_as_command():
+    """`python3 -m mps2p[.tools...]`: Python sets argv[0] to "-m" while it
+    imports the package, and orig_argv names the module (another package run
+    with -m that imports mps2p keeps its ImportError to catch)."""
+    argv = getattr(sys, "orig_argv", [])
+    if sys.argv[:1] != ["-m"] or "-m" not in argv[:-1]:
+        return False
+    return argv[argv.index("-m") + 1].split(".")[0] == "mps2p"
+
+
 try:
     from . import _native  # loads libmps2p
 except ImportError as _error:
-    # `python3 -m mps2p ...` (Python sets argv[0] to "-m" while it imports the
-    # package): a command, so one line and exit status 2, as the `mps2p` command
-    if sys.argv[:1] == ["-m"]:
+    # a command: one line and exit status 2, as the `mps2p` command
+    if _run_as_command():
         print("mps2p: %s" % _error, file=sys.stderr)
         raise SystemExit(2) from None
     raise
@@ -28,8 +38,8 @@ from . import errors, results
 from ._core import version as _version
 from ._native import header_path, library_path
 from .errors import (BufferError_, DivergedError, Error, FileError, InvalidArgumentError,
-                     NullArgumentError, OutOfMemoryError, SceneFileError, SnapWarning,
-                     SolveError, StateError, UnknownKeyError)
+                     MissingFileError, NullArgumentError, OutOfMemoryError, SceneFileError,
+                     SnapWarning, SolveError, StateError, UnknownKeyError)
 from .results import Results, ResultsFile, open_results
 from .scene import KIND_DUMMY, KIND_FLUID, KIND_OUT, KIND_WALL, Scene, option_info, param_info
 from .solver import COUNT_STATS, STAT_KEYS, Solver, State, stat_info
@@ -51,6 +61,6 @@ __all__ = [
     "COUNT_STATS", "KIND_FLUID", "KIND_WALL", "KIND_DUMMY", "KIND_OUT", "Results", "ResultsFile",
     "open_results", "example_names", "example_path", "Error", "NullArgumentError",
     "InvalidArgumentError", "UnknownKeyError", "OutOfMemoryError", "StateError",
-    "BufferError_", "SolveError", "DivergedError", "FileError", "SceneFileError",
+    "BufferError_", "SolveError", "DivergedError", "FileError", "MissingFileError", "SceneFileError",
     "SnapWarning", "errors", "results", "library_path", "header_path", "__version__",
 ]

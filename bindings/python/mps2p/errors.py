@@ -53,6 +53,11 @@ class FileError(Error, OSError):
         return self.args[0]
 
 
+class MissingFileError(FileError, FileNotFoundError):
+    """A file to read is not there: a FileError that is also what open()
+    raises for a missing file."""
+
+
 class SceneFileError(Error, ValueError):
     """A scene file is wrong: the message names the file, the key and the reason."""
 

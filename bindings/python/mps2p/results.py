@@ -6,7 +6,7 @@ import os
 import numpy as np
 
 from ._core import check, encode, encode_path, real
-from .errors import FileError
+from .errors import FileError, MissingFileError
 from ._native import ffi, lib
 
 
@@ -81,20 +81,13 @@ def _value(value):
     return value
 
 
-class _MissingFile(FileError, FileNotFoundError):
-    """A FileError that is also what open() raises for a missing file."""
-
-
-# shown as what a user catches (mps2p.FileError), not as this private class
-_MissingFile.__name__ = _MissingFile.__qualname__ = "FileError"
-_MissingFile.__module__ = "mps2p"
 
 
 def _open_hdf5(h5py, path):
     """h5py.File(path, "r"), with HDF5's messages turned into a FileError
     that names the file and says what to open instead."""
     if not os.path.exists(path):
-        raise _MissingFile('results file "%s": no such file' % path)
+        raise MissingFileError('results file "%s": no such file' % path)
     if os.path.isdir(path):
         raise FileError('results file "%s" is a directory (a run\'s results are its '
                         'results.h5)' % path)
@@ -187,8 +180,9 @@ def open_results(path):
     """Opens a results file written by Results or `mps2p run` (results.h5)
     for reading: a ResultsFile with str metadata and numpy arrays. Needs
     h5py. ValueError for an HDF5 file that is not a results file,
-    mps2p.FileError (an OSError; for a missing file also a FileNotFoundError)
-    for a missing file, one that is not HDF5 or one that cannot be read."""
+    mps2p.FileError (an OSError) for a missing file (mps2p.MissingFileError,
+    also a FileNotFoundError), one that is not HDF5 or one that cannot be
+    read."""
     return ResultsFile(path)
 
 
