@@ -455,11 +455,16 @@ def pysph_impact(out, python, per_height=40):
     pfreq = max(1, int(round(0.01 * math.sqrt(H / G) / dt)))
     work = os.path.join(out, "pysph_buchner_%d" % per_height)
     # the example ends with its own plot: without matplotlib it fails after the run
-    needs = subprocess.run([python, "-c", "import pysph, matplotlib"], capture_output=True,
-                           text=True)
-    if needs.returncode != 0:
+    try:
+        needs = subprocess.run([python, "-c", "import pysph, matplotlib"], capture_output=True,
+                               text=True)
+        problem = needs.stderr.strip().splitlines()[-1:] if needs.returncode else []
+        problem = problem or ([] if needs.returncode == 0 else ["exit status %d" % needs.returncode])
+    except OSError as e:
+        problem = [str(e)]
+    if problem:
         sys.exit("validation.py: --pysph-python %s needs PySPH and matplotlib (its example "
-                 "plots at the end): %s" % (python, needs.stderr.strip().splitlines()[-1]))
+                 "plots at the end): %s" % (python, problem[0]))
     shutil.rmtree(work, ignore_errors=True)
     subprocess.run([python, "-m", "pysph.examples.dam_break.db_2d_buchner", "--scheme", "edac",
                     "--dx", repr(dx), "--pfreq", str(pfreq), "-d", work],

@@ -130,7 +130,7 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False):
             values = probes.sample(solver)
             rows.append([solver.time, solver.step_count] + values)
             for name, value in zip(probes.names, values):
-                if math.isfinite(value):  # nan: a front with no water low enough yet
+                if math.isfinite(value):  # no value: a front with no water low enough yet
                     results.append_series(name, solver.time, value)
 
         def snapshot(force_picture=False):

@@ -196,12 +196,13 @@ class SceneFile:
 
     def _warn_boxes_outside_tanks(self):
         """A fluid box wholly outside every tank (beside it, under its floor,
-        over a closed top) is allowed, but its fluid falls out of the domain:
-        said before the run, not 0.3 s into it. (A box reaching into a wall
-        is refused by the library: two particles in one place.)"""
+        over a closed top) is allowed, but no wall holds its fluid (under
+        gravity it falls out of the domain): said before the run, not 0.3 s
+        into it. (A box reaching into a wall is refused by the library: two
+        particles in one place.)"""
         tanks = self.data.get("tank", [])
-        if not tanks or self.data.get("wall_box"):
-            return  # walls of the file's own: it may hold the fluid itself
+        if not tanks or self.data.get("wall_box") or self.data.get("particles"):
+            return  # walls of the file's own (boxes, particle files) may hold it
         def meets(box, tank):
             x0, y0, x1, y1 = tank["box"]
             top = math.inf if tank.get("open_top", True) else y1
@@ -209,8 +210,8 @@ class SceneFile:
 
         for i, b in enumerate(self.data.get("fluid_box", [])):
             if not any(meets(b["box"], t) for t in tanks):
-                warnings.warn("%s: fluid_box[%d]: %s lies outside every tank: its fluid will "
-                              "fall out of the domain" % (self.path, i, list(b["box"])),
+                warnings.warn("%s: fluid_box[%d]: %s lies outside every tank: no wall holds "
+                              "its fluid" % (self.path, i, list(b["box"])),
                               UserWarning, stacklevel=4)
 
     def _read_particles(self, key, name):
