@@ -458,13 +458,13 @@ def pysph_impact(out, python, per_height=40):
     try:
         needs = subprocess.run([python, "-c", "import pysph, matplotlib"], capture_output=True,
                                text=True)
-        problem = needs.stderr.strip().splitlines()[-1:] if needs.returncode else []
-        problem = problem or ([] if needs.returncode == 0 else ["exit status %d" % needs.returncode])
+        problem = needs.returncode and (needs.stderr.strip().splitlines() or
+                                        ["exit status %d" % needs.returncode])[-1]
     except OSError as e:
-        problem = [str(e)]
+        problem = str(e)
     if problem:
         sys.exit("validation.py: --pysph-python %s needs PySPH and matplotlib (its example "
-                 "plots at the end): %s" % (python, problem[0]))
+                 "plots at the end): %s" % (python, problem))
     shutil.rmtree(work, ignore_errors=True)
     subprocess.run([python, "-m", "pysph.examples.dam_break.db_2d_buchner", "--scheme", "edac",
                     "--dx", repr(dx), "--pfreq", str(pfreq), "-d", work],

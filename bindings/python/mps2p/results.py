@@ -81,8 +81,6 @@ def _value(value):
     return value
 
 
-
-
 def _open_hdf5(h5py, path):
     """h5py.File(path, "r"), with HDF5's messages turned into a FileError
     that names the file and says what to open instead."""

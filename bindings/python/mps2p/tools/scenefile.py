@@ -203,6 +203,7 @@ class SceneFile:
         tanks = self.data.get("tank", [])
         if not tanks or self.data.get("wall_box") or self.data.get("particles"):
             return  # walls of the file's own (boxes, particle files) may hold it
+
         def meets(box, tank):
             x0, y0, x1, y1 = tank["box"]
             top = math.inf if tank.get("open_top", True) else y1
