@@ -6,12 +6,17 @@ Koshizuka and Oka's (scheme koshizuka1996).
 
     python3 examples/validation.py still|dam|shift|buchner|turning|stream|all [--quick] [--fine]
         [--pysph-python PY] [--out DIR]
+    python3 examples/validation.py scatter [--settings JSON] [--quick] [--out DIR]
     python3 examples/validation.py tables [--out DIR]   # the JSONs as Markdown
 
 Each case writes CSV series, a JSON summary and PNG pictures into DIR
 (default out/validation). --quick runs shorter versions (still water 2 s,
 Buchner at H/l0 = 40 only); --fine adds Buchner at H/l0 = 160; --pysph-python adds
-PySPH's own Buchner example (its EDAC scheme, H/dx = 40) to the impact figure and table. Reference data: data/ (cited in data/README.md).
+PySPH's own Buchner example (its EDAC scheme, H/dx = 40) to the impact figure and table.
+scatter runs the violent cases again perturbed in cfl or dt (the default
+scheme, or it with --settings changed) and adds their statistics' mean,
+standard deviation and range to scatter.json. Reference data: data/ (cited in
+data/README.md).
 """
 import argparse
 import csv
@@ -166,8 +171,9 @@ def martin_moyce():
     return np.array(rows)
 
 
-def dam_break(scheme, l0=0.01, end=1.0, a=0.15, every=0.005, cfl=0.2):
+def dam_break(scheme, l0=0.01, end=1.0, a=0.15, every=0.005, cfl=0.2, settings=None):
     with mps2p.Scene(l0, scheme=scheme, cfl=cfl) as scene:
+        scene.set(**(settings or {}))
         water = scene.add_fluid("water", RHO, 1e-6)
         scene.add_fluid_box(water, 0.0, 0.0, a + 1e-9, 2 * a + 1e-9)
         scene.add_tank(0.0, 0.0, 0.6, 0.7, open_top=True)
@@ -355,7 +361,7 @@ def buchner_reference():
     return {k: np.array(sorted(v)) for k, v in out.items()}
 
 
-def impact(scheme, per_height, H=0.6, end_star=7.0, every_star=0.01):
+def impact(scheme, per_height, H=0.6, end_star=7.0, every_star=0.01, settings=None):
     """Buchner's dam break: column H high, 2H wide, tank 5.366 H long (to a
     whole number of spacings: 5.35 H at H/l0 = 40, 5.3625 H at 80). The
     sensors sit on the right wall at y = 0.16 m and 0.584 m; the probes read
@@ -364,6 +370,7 @@ def impact(scheme, per_height, H=0.6, end_star=7.0, every_star=0.01):
     # 5.366 H, to a whole number of spacings (tanks are built on the lattice)
     length = math.floor(5.366 * per_height) * l0
     with mps2p.Scene(l0, scheme=scheme) as scene:
+        scene.set(**(settings or {}))
         water = scene.add_fluid("water", RHO, 1e-6)
         scene.add_fluid_box(water, 0.0, 0.0, 2 * H + 1e-9, H + 1e-9)
         scene.add_tank(0.0, 0.0, length + 1e-9, 3 * H + 1e-9, open_top=True)
@@ -689,6 +696,69 @@ def run_stream(out, quick):
     return summaries
 
 
+# The chaotic statistics' scatter: each run of a violent flow is one sample of
+# a chaotic process (a change of cfl alone moves the spray's peak from 2.2 to 3.8 %),
+# so a bar is judged over runs perturbed in cfl (dt for the turn).
+SCATTER_CFL = (0.2, 0.17, 0.23, 0.15, 0.25, 0.19)
+SCATTER_DT = (5e-4, 4e-4, 6e-4, 4.5e-4)
+
+
+def spread(values):
+    a = np.array(values, dtype=float)
+    return {"mean": float(a.mean()), "std": float(a.std()), "min": float(a.min()),
+            "max": float(a.max()), "runs": [float(v) for v in a]}
+
+
+def run_scatter(out, quick, settings=None):
+    """The default scheme (with `settings` changed) over perturbed runs: the
+    dam break at l0 = 0.01 m (six cfl values: front, spray, energy), Buchner's
+    case at H/l0 = 40 (four: impact, plateau, noise) and the stream turning
+    up a wall (four dt values: wall force); mean, standard deviation, range."""
+    settings = settings or {}
+    dams, impacts, turns = [], [], []
+    for cfl in SCATTER_CFL[:3 if quick else 6]:
+        print("scatter: dam break, cfl %g, %s" % (cfl, json.dumps(settings)))
+        _, s = dam_break("corrected", 0.01, 1.0, cfl=cfl, settings=settings)
+        dams.append(s)
+    for cfl in SCATTER_CFL[:2 if quick else 4]:
+        print("scatter: Buchner H/l0 = 40, cfl %g" % cfl)
+        _, s = impact("corrected", 40, settings=dict(settings, cfl=cfl))
+        impacts.append(s)
+    for dt in SCATTER_DT[:2 if quick else 4]:
+        print("scatter: turning stream, dt %g" % dt)
+        _, s, _ = turning_stream("dt %g" % dt, dict(settings, dt=dt))
+        turns.append(s)
+    summary = {
+        "settings": settings,
+        "dam": {"cfl": [d["cfl"] for d in dams],
+                "front_error_max": spread([d["front_error_max"] for d in dams]),
+                "isolated_max_fraction": spread([d["isolated_max_fraction"] for d in dams]),
+                "energy_excess_max": spread([d["energy_excess_max"] for d in dams]),
+                "energy_balance_before_wall": spread(
+                    [d["energy_balance_before_wall"] for d in dams])},
+        "buchner_40": {"impact_t": spread([d["impact_t"] if d["impact_t"] is not None
+                                           else math.nan for d in impacts]),
+                       "plateau_3_5": spread([d["plateau_3_5"] for d in impacts]),
+                       "noise_2_7": spread([d["noise_2_7"] for d in impacts])},
+        "turning_force": spread([t["force"] for t in turns])}
+    print("  " + json.dumps(summary))
+    return summary
+
+
+def scatter_row(r):
+    """One row of the scatter table: mean +- standard deviation (worst)."""
+    def f(x, scale=1.0, digits=1, worst="max"):
+        return "%.*f +- %.*f (%.*f)" % (digits, scale * x["mean"], digits, scale * x["std"],
+                                        digits, scale * x[worst])
+    d, b = r["dam"], r["buchner_40"]
+    return "| %s | %s %% | %s %% | %s %% | %s | %s | %s | %s |" % (
+        json.dumps(r["settings"]) if r["settings"] else "the default scheme",
+        f(d["front_error_max"], 100), f(d["isolated_max_fraction"], 100),
+        f(d["energy_excess_max"], 100, 2), f(b["impact_t"], digits=2),
+        f(b["plateau_3_5"], digits=2, worst="min"), f(b["noise_2_7"], digits=3),
+        f(r["turning_force"], digits=2, worst="min"))
+
+
 def tables(out):
     """The JSON summaries as docs/validation.md's Markdown tables."""
     def load(name):
@@ -754,21 +824,31 @@ def tables(out):
             lines.append("| %s | " % r["label"] + " | ".join(
                 "%.2f (%.2f)" % (m, d) for m, d in zip(r["p_mean"], r["p_std"])) +
                 " | %.2f | %.2f |" % (r["force"], r["P1_over_rho_g_H"]))
+    if os.path.exists(os.path.join(out, "scatter.json")):
+        lines += ["", "| settings | dam break: front error, max over T <= 2.5 | isolated, max to "
+                  "1 s (bar 2 %) | energy above the released, max (bar 2 %) | Buchner H/l0 = "
+                  "40: first P1 > 0.1 (exp. 2.49) | plateau t* 3-5 (exp. 0.55) | noise t* 2-7 | "
+                  "turning force / rho U^2 h (theory 1) |", "|---|---|---|---|---|---|---|---|"]
+        lines += [scatter_row(r) for r in load("scatter")]
     print("\n".join(lines[1:]))
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("case", choices=("still", "dam", "shift", "buchner", "turning", "stream", "all",
-                                         "tables"),
-                        help="a case, all six, or tables: the JSON summaries in --out as "
-                             "Markdown (the shift case's table is written by hand)")
+                                         "scatter", "tables"),
+                        help="a case, all six, or scatter (the violent cases' statistics "
+                             "over perturbed runs; not in all), or tables: the JSON summaries "
+                             "in --out as Markdown (the shift case's table is written by hand)")
     parser.add_argument("--quick", action="store_true", help="shorter runs (see the module help)")
     parser.add_argument("--fine", action="store_true",
                         help="buchner: also H/l0 = 160 (about 45 minutes more)")
     parser.add_argument("--pysph-python", metavar="PY",
                         help="buchner: also PySPH's own Buchner example at H/dx = 40 (edac), run "
                              "with this Python, which has PySPH (about 11 minutes more)")
+    parser.add_argument("--settings", metavar="JSON", default="{}",
+                        help="scatter: parameters and options changed from the default scheme, "
+                             "as a JSON object (a run's summary is added to scatter.json's list)")
     parser.add_argument("--out", default=os.path.join("out", "validation"),
                         help="folder for the CSV, JSON and PNG files")
     args = parser.parse_args(argv)
@@ -781,6 +861,16 @@ def main(argv=None):
     runners = {"still": run_still, "dam": run_dam, "shift": run_shift,
                "buchner": lambda out, quick: run_buchner(out, quick, args.fine, args.pysph_python),
                "turning": run_turning, "stream": run_stream}
+    if args.case == "scatter":
+        summary = run_scatter(args.out, args.quick, json.loads(args.settings))
+        path = os.path.join(args.out, "scatter.json")
+        earlier = []
+        if os.path.exists(path):
+            with open(path) as f:
+                earlier = [r for r in json.load(f) if r["settings"] != summary["settings"]]
+        with open(path, "w") as f:
+            json.dump(earlier + [summary], f, indent=1)
+        return 0
     for case in cases:
         summary = runners[case](args.out, args.quick)
         with open(os.path.join(args.out, case + ".json"), "w") as f:

@@ -53,3 +53,23 @@ def test_a_late_series_is_late():
     s = validation.impact_summary("late", 0, late)
     assert s["impact_t"] - on_time["impact_t"] == pytest.approx(0.3, abs=0.011)
     assert s["rms_difference_2_7"] > 0.1
+
+
+def test_scatter_row_reads_the_worst_run_of_each_statistic():
+    """The scatter table's row (docs/validation.md, "Run-to-run scatter"):
+    mean +- standard deviation, and in brackets the worst run: the largest
+    error, spray, energy, impact time and noise, the smallest plateau and
+    force."""
+    s = validation.spread
+    summary = {"settings": {"shifting": 0},
+               "dam": {"front_error_max": s([0.16, 0.18]),
+                       "isolated_max_fraction": s([0.02, 0.04]),
+                       "energy_excess_max": s([0.0, 0.001])},
+               "buchner_40": {"impact_t": s([2.7, 2.9]), "plateau_3_5": s([0.2, 0.3]),
+                              "noise_2_7": s([0.1, 0.2])},
+               "turning_force": s([0.7, 0.9])}
+    assert summary["dam"]["isolated_max_fraction"]["std"] == pytest.approx(0.01)
+    cells = [c.strip() for c in validation.scatter_row(summary).split("|")[1:-1]]
+    assert cells == ['{"shifting": 0}', "17.0 +- 1.0 (18.0) %", "3.0 +- 1.0 (4.0) %",
+                     "0.05 +- 0.05 (0.10) %", "2.80 +- 0.10 (2.90)", "0.25 +- 0.05 (0.20)",
+                     "0.150 +- 0.050 (0.200)", "0.80 +- 0.10 (0.70)"]
