@@ -88,10 +88,10 @@ def test_hard_case_passes_every_check_at_a_modest_resolution(name):
 
 
 WET_BED_POCKET = pytest.mark.xfail(
-    strict=True, reason="measured (docs/two-phase.md, 'Where rungs 3 and 5 stand'): at "
-    "l0 = 0.01 m the wet bed passes 4 of 8 runs perturbed in dt and tolerances; as shipped "
-    "(dt 2e-4 s) a water particle kicked where the surge closes an air pocket against the "
-    "right wall leaves over the left wall at 0.938 s")
+    strict=True, reason="measured (docs/two-phase.md, the ladder's rung 5): at l0 = 0.01 m "
+    "the wet bed passes 5 of 8 runs perturbed in dt and tolerances; as shipped (dt 2e-4 s) a "
+    "water particle kicked where the surge closes an air pocket against the right wall "
+    "leaves over the left wall at 0.695 s")
 
 
 @acceptance

@@ -48,14 +48,27 @@ def test_bubble_rises_out(name):
     assert m["surface_deviation_at_end"] < 1.5, m
     all_out = m["all_out_at"] is not None and m["left_in_water"] == 0
     if (name == "bubble_rise_8x8" and m["all_out_at"] is None and
-            m["left_in_water"] == 1):
-        # Known, measured (docs/two-phase.md, the ladder's table, rung 3's
-        # row): the 8 x 8 bubble's last particle is
-        # chaotic; with samples every 0.005, 0.01 and 0.02 s it left at 1.64 s,
-        # not by 2 s (one particle in the water's top row by the left wall),
-        # and at 1.76 s; the library before: not by 2 s, 1.81 s and 1.86 s.
-        pytest.xfail("rung 3: the 8 x 8 bubble's last particle still in the water at 2 s")
+            1 <= m["left_in_water"] <= 3):
+        # Known, measured (docs/two-phase.md, "A joined particle does not
+        # release its bubble"): over eight samplings (each a run perturbed in
+        # dt) the 8 x 8 bubble's last 1-2 particles linger by the left wall at
+        # 2 s in four; this sampling's run is out by 1.66 s.
+        pytest.xfail("rung 3: the 8 x 8 bubble's last particles still in the water at 2 s")
     assert all_out, m
+
+
+@pytest.mark.parametrize("sample_every", [0.005, 0.02])
+def test_bubble_leaves_the_pool_in_the_tank(sample_every):
+    """Rung 3 at other samplings (each a run perturbed in dt): the 8 x 8
+    bubble throws no fluid out of the tank. While a joined particle could
+    seed the bubbles' flood fill, one of the bubble's particles dipping under
+    beta n0 released the whole bubble from the liquid's solve; the water fell
+    into the hole and the pool bounced up, lifting 201 and 210 particles over
+    the walls at these samplings (docs/two-phase.md)."""
+    m = ladder.bubble_rise("bubble_rise_8x8", until=2.0, sample_every=sample_every)
+    assert m["status"] == "ran", m
+    assert m["most_outside_tank"] == 0, m
+    assert m["left_in_water"] <= 3, m
 
 
 def test_gas_thrown_up_stays_in_the_tank():
