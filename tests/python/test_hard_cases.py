@@ -79,9 +79,9 @@ def test_hard_case_passes_every_check_at_a_modest_resolution(name):
     to the end, gas above the tank's walls counted as gone. Both held by the
     gas's damping layer at its top (docs/two-phase.md, rungs 5 and 6). The
     wet bed at this spacing passed 8 of 8 runs perturbed in dt and the
-    solver's tolerances in session 13 (3 of 4 before: the surge gained
-    energy at the right wall; docs/two-phase.md); it was a known failure
-    with Jacobi."""
+    solver's tolerances in session 13, 5 of 6 on 2026-12-04 (dt 1.5e-4 s: a
+    water particle over the left wall at 1.15 s; docs/two-phase.md); it was
+    a known failure with Jacobi."""
     report = check_run(scene(name), l0=0.015, options=IMPROVED)
     assert report["status"] == "ok", (report["reason"], report["violations"])
     assert report["time"] == pytest.approx(report["end_time"])
