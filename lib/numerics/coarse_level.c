@@ -147,52 +147,145 @@ static int compare_int(const void *x, const void *y)
     return (a > b) - (a < b);
 }
 
-/* A_c's upper triangle by columns: column J holds sum over i in J, j in I of
- * a_ij for every aggregate I <= J, its rows ascending. One pass; the rows
- * grow as needed (a column has at most as many entries as its members'
- * rows). */
-static int build_coarse(coarse_level *c, const sparse_matrix *a, size_t *entries_out)
+/* Where a run of A_c's columns is built: its entries, their room, and a
+ * marker and sums over the aggregates. */
+typedef struct column_run {
+    int *row;
+    double *value;
+    size_t capacity, entries;
+    int *marker;
+    double *accumulated;
+} column_run;
+
+/* Columns [first, end) of A_c's upper triangle: column J holds sum over i in
+ * J, j in I of a_ij for every aggregate I <= J, its rows ascending, stored
+ * one after another from the run's start (coarse_start gets the offsets
+ * within the run). The room grows as needed (a column has at most as many
+ * entries as its members' rows). */
+static int build_columns(const coarse_level *c, const sparse_matrix *a, int first, int end,
+                         column_run *run)
 {
     size_t entries = 0;
     for (int g = 0; g < c->count; g++)
-        c->marker[g] = -1;
-    c->coarse_start[0] = 0;
-    for (int g = 0; g < c->count; g++) {
+        run->marker[g] = -1;
+    for (int g = first; g < end; g++) {
         size_t most = 0;
         for (int m = c->member_start[g]; m < c->member_start[g + 1]; m++)
             most += (size_t)(a->row_start[c->member[m] + 1] - a->row_start[c->member[m]]);
-        if (entries + most > c->entries_capacity) {
+        if (entries + most > run->capacity) {
             size_t capacity = 2 * (entries + most);
-            if (!grow(&c->coarse_row, capacity, sizeof(int)) ||
-                !grow(&c->coarse_value, capacity, sizeof(double)))
+            if (!grow(&run->row, capacity, sizeof(int)) ||
+                !grow(&run->value, capacity, sizeof(double)))
                 return MPS2P_ERR_NOMEM;
-            c->entries_capacity = capacity;
+            run->capacity = capacity;
         }
-        size_t first = entries;
+        size_t column_first = entries;
         for (int m = c->member_start[g]; m < c->member_start[g + 1]; m++) {
             int i = c->member[m];
             for (int k = a->row_start[i]; k < a->row_start[i + 1]; k++) {
                 int h = c->aggregate_of[a->column[k]];
                 if (h > g || a->value[k] == 0.0) /* ppe_pattern neighbour_list's zeros */
                     continue;
-                if (c->marker[h] != g) {
-                    c->marker[h] = g;
-                    c->coarse_row[entries++] = h;
-                    c->accumulated[h] = 0.0;
+                if (run->marker[h] != g) {
+                    run->marker[h] = g;
+                    run->row[entries++] = h;
+                    run->accumulated[h] = 0.0;
                 }
-                c->accumulated[h] += a->value[k];
+                run->accumulated[h] += a->value[k];
             }
         }
-        qsort(c->coarse_row + first, entries - first, sizeof *c->coarse_row, compare_int);
-        for (size_t e = first; e < entries; e++)
-            c->coarse_value[e] = c->accumulated[c->coarse_row[e]];
+        qsort(run->row + column_first, entries - column_first, sizeof *run->row, compare_int);
+        for (size_t e = column_first; e < entries; e++)
+            run->value[e] = run->accumulated[run->row[e]];
         c->coarse_start[g + 1] = (int)entries;
     }
-    *entries_out = entries;
+    run->entries = entries;
     return MPS2P_OK;
 }
 
-int coarse_level_setup(coarse_level *c, const sparse_matrix *a, char *message, size_t size)
+/* Runs whose bookkeeping a build keeps on the stack. */
+#define STACK_RUNS 8
+
+/* A_c's upper triangle by columns. With threads, each builds a contiguous
+ * run of columns, the first straight into A_c, the others into room of
+ * their own, copied in behind it (as the neighbour list's runs): every
+ * column is built by one thread as with one, the same bits for any team. */
+static int build_coarse(coarse_level *c, const sparse_matrix *a, double threads,
+                        size_t *entries_out)
+{
+    const size_t runs = a->rows < REDUCTION_BLOCK ? 1 : (size_t)team_size(threads);
+    column_run stack_runs[STACK_RUNS];
+    int stack_splits[STACK_RUNS + 1];
+    column_run *run = runs <= STACK_RUNS ? stack_runs : calloc(runs, sizeof *run);
+    int *split = runs <= STACK_RUNS ? stack_splits : calloc(runs + 1, sizeof *split);
+    int failed = !run || !split;
+    if (!failed) {
+        /* runs of about equal numbers of members */
+        size_t r = 0;
+        for (int g = 0; g <= c->count && r <= runs; g++)
+            while (r <= runs && (size_t)c->member_start[g] >= (size_t)a->rows * r / runs)
+                split[r++] = g;
+        for (; r <= runs; r++)
+            split[r] = c->count;
+        split[0] = 0;
+        split[runs] = c->count;
+        run[0] = (column_run){c->coarse_row, c->coarse_value, c->entries_capacity, 0,
+                              c->marker, c->accumulated};
+        for (size_t q = 1; q < runs; q++) {
+            run[q] = (column_run){NULL, NULL, 0, 0, malloc((size_t)c->count * sizeof(int)),
+                                  malloc((size_t)c->count * sizeof(double))};
+            failed |= !run[q].marker || !run[q].accumulated;
+        }
+    }
+    if (!failed) {
+        PARALLEL_FOR(threads, schedule(static, 1) reduction(| : failed) if (runs > 1),
+        for (size_t q = 0; q < runs; q++) {
+            failed |= build_columns(c, a, split[q], split[q + 1], &run[q]) != MPS2P_OK;
+        });
+        c->coarse_row = run[0].row;
+        c->coarse_value = run[0].value;
+        c->entries_capacity = run[0].capacity;
+    }
+    size_t total = 0;
+    if (!failed) {
+        for (size_t q = 0; q < runs; q++)
+            total += run[q].entries;
+        if (total > c->entries_capacity) {
+            failed = !grow(&c->coarse_row, total, sizeof(int)) ||
+                     !grow(&c->coarse_value, total, sizeof(double));
+            if (!failed)
+                c->entries_capacity = total;
+        }
+    }
+    if (!failed) {
+        c->coarse_start[0] = 0;
+        size_t offset = run[0].entries;
+        for (size_t q = 1; q < runs; q++) {
+            if (run[q].entries > 0) {
+                memcpy(c->coarse_row + offset, run[q].row, run[q].entries * sizeof(int));
+                memcpy(c->coarse_value + offset, run[q].value, run[q].entries * sizeof(double));
+            }
+            for (int g = split[q]; g < split[q + 1]; g++)
+                c->coarse_start[g + 1] += (int)offset;
+            offset += run[q].entries;
+        }
+    }
+    for (size_t q = 1; q < runs && run; q++) {
+        free(run[q].row);
+        free(run[q].value);
+        free(run[q].marker);
+        free(run[q].accumulated);
+    }
+    if (run != stack_runs)
+        free(run);
+    if (split != stack_splits)
+        free(split);
+    *entries_out = total;
+    return failed ? MPS2P_ERR_NOMEM : MPS2P_OK;
+}
+
+int coarse_level_setup(coarse_level *c, const sparse_matrix *a, double threads, char *message,
+                       size_t size)
 {
     const size_t n = (size_t)a->rows;
     if (n > c->rows_capacity) {
@@ -217,7 +310,7 @@ int coarse_level_setup(coarse_level *c, const sparse_matrix *a, char *message, s
     c->count = aggregates;
     group_members(c, a->rows);
     size_t entries = 0;
-    if (build_coarse(c, a, &entries) != MPS2P_OK)
+    if (build_coarse(c, a, threads, &entries) != MPS2P_OK)
         goto out_of_memory;
 
     cholmod_sparse matrix = {0};

@@ -563,7 +563,7 @@ static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, 
     const int two_level = ls->preconditioner == CG_PRECONDITIONER_TWO_LEVEL &&
                           sqrt(rr) > tolerance * b_norm;
     if (two_level) {
-        int status = coarse_level_setup(ls->coarse, a, message, size);
+        int status = coarse_level_setup(ls->coarse, a, ls->threads, message, size);
         if (status == MPS2P_OK)
             status = add_coarse_correction(ls, r, z, n, &rz, message, size);
         if (status != MPS2P_OK)

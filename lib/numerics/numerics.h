@@ -16,10 +16,14 @@
 
 /* Threads of a parallel loop for a `threads` setting (parameter threads:
  * 0 = OpenMP's default). Given to each loop's num_threads clause, never set
- * process-wide, so two solvers can run with different counts side by side. */
+ * process-wide, so two solvers can run with different counts side by side.
+ * Inside a parallel region (SIDE_BY_SIDE's, or a host's own) it is 1: the
+ * code there takes its one-thread paths, which give the same bits. */
 static inline int team_size(double threads)
 {
 #ifdef _OPENMP
+    if (omp_in_parallel())
+        return 1;
     return threads >= 1.0 ? (int)threads : omp_get_max_threads();
 #else
     (void)threads;
@@ -51,6 +55,35 @@ static inline int team_size(double threads)
     do {                                                                         \
         (void)(threads);                                                         \
         __VA_ARGS__                                                              \
+    } while (0)
+#endif
+
+/* SIDE_BY_SIDE(threads, first, second): the two statements at once, each on
+ * one thread, when team_size(threads) > 1; else first, then second. They
+ * must not write what the other reads or writes; each then computes what it
+ * computes alone, so the results do not depend on the team. */
+#ifdef _OPENMP
+#define SIDE_BY_SIDE(threads, first, second)                                     \
+    do {                                                                         \
+        if (team_size(threads) > 1) {                                            \
+            OMP_PRAGMA_(omp parallel sections num_threads(2))                    \
+            {                                                                    \
+                OMP_PRAGMA_(omp section)                                         \
+                { first; }                                                       \
+                OMP_PRAGMA_(omp section)                                         \
+                { second; }                                                      \
+            }                                                                    \
+        } else {                                                                 \
+            first;                                                               \
+            second;                                                              \
+        }                                                                        \
+    } while (0)
+#else
+#define SIDE_BY_SIDE(threads, first, second)                                     \
+    do {                                                                         \
+        (void)(threads);                                                         \
+        first;                                                                   \
+        second;                                                                  \
     } while (0)
 #endif
 
@@ -170,6 +203,20 @@ static inline size_t first_above(neighbour_rows rows, size_t i)
     return k;
 }
 
+/* With threads, the pair sums above run in blocks of consecutive rows, one
+ * block a thread: a block first gives each of its rows, in ascending order,
+ * the terms of its neighbours below the block (pair_block_first), then takes
+ * each pair inside it or above it once, from its lower row, adding the term
+ * to the upper row only when that row is in the block (below pair_block_end;
+ * the upper block takes it in its first pass). Every row still sums its
+ * terms in ascending order of neighbour: the same bits for any number of
+ * blocks, and one block is the one-thread loop. Block b of count: */
+static inline size_t pair_block_first(size_t count, size_t blocks, size_t b)
+{
+    return count * b / blocks;
+}
+#define pair_block_end(count, blocks, b) pair_block_first(count, blocks, (b) + 1)
+
 /* ---- linear solvers (linear_solver.c) ---- */
 
 /* GAMG: PETSc's CG with algebraic multigrid, only with option petsc
@@ -214,7 +261,8 @@ int coarse_level_create(coarse_level **out, char *message, size_t size);
 void coarse_level_destroy(coarse_level *c);
 size_t coarse_level_memory(const coarse_level *c);
 /* Aggregates of A's unknowns, A_c = P^T A P factorised. */
-int coarse_level_setup(coarse_level *c, const sparse_matrix *a, char *message, size_t size);
+int coarse_level_setup(coarse_level *c, const sparse_matrix *a, double threads, char *message,
+                       size_t size);
 /* A_c^-1 P^T r, one value an aggregate, and the aggregate of each unknown;
  * NULL without a factor (no setup, or a failed one) or when CHOLMOD's solve
  * fails (out of memory). */

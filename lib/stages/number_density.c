@@ -13,10 +13,23 @@ void number_density_compute(mps2p_solver *s, double *out)
     const double re = s->params.re_density * s->l0;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *position = s->state.position;
-    if (team_size(s->params.threads) == 1) {
-        /* each pair's weight once, added to both rows (see first_above) */
-        memset(out, 0, s->count * sizeof *out);
-        for (size_t i = 0; i < s->count; i++) {
+    const size_t blocks = (size_t)team_size(s->params.threads);
+    /* each pair's weight once, added to both rows (first_above, pair_block_first) */
+    PARALLEL_FOR(s->params.threads, schedule(static, 1) if (blocks > 1),
+    for (size_t b = 0; b < blocks; b++) {
+        const size_t first = pair_block_first(s->count, blocks, b);
+        const size_t end = pair_block_end(s->count, blocks, b);
+        for (size_t i = first; i < end; i++) {
+            double n = 0.0;
+            for (size_t k = nl.start[i]; k < nl.start[i + 1] && nl.index[k] < first; k++) {
+                size_t j = nl.index[k];
+                double dx = position[2 * j] - position[2 * i];
+                double dy = position[2 * j + 1] - position[2 * i + 1];
+                n += kernel_weight_squared(dx * dx + dy * dy, re);
+            }
+            out[i] = n;
+        }
+        for (size_t i = first; i < end; i++) {
             double n = out[i];
             for (size_t k = first_above(nl, i); k < nl.start[i + 1]; k++) {
                 size_t j = nl.index[k];
@@ -24,22 +37,11 @@ void number_density_compute(mps2p_solver *s, double *out)
                 double dy = position[2 * j + 1] - position[2 * i + 1];
                 double w = kernel_weight_squared(dx * dx + dy * dy, re);
                 n += w;
-                out[j] += w;
+                if (j < end)
+                    out[j] += w;
             }
             out[i] = n;
         }
-        return;
-    }
-    PARALLEL_FOR(s->params.threads, schedule(static),
-    for (size_t i = 0; i < s->count; i++) {
-        double n = 0.0;
-        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
-            size_t j = nl.index[k];
-            double dx = position[2 * j] - position[2 * i];
-            double dy = position[2 * j + 1] - position[2 * i + 1];
-            n += kernel_weight_squared(dx * dx + dy * dy, re);
-        }
-        out[i] = n;
     });
 }
 

@@ -125,8 +125,8 @@ int pressure_solve(mps2p_solver *s, double dt)
  * symmetric. Koshizuka and Oka's dummies are left out of the Laplacian, and
  * a dry wall is p = 0: both bend the hydrostatic field near walls, which
  * still water measures (docs/validation.md). */
-static int fill_row(mps2p_solver *s, const ppe_system *sys, double dt, size_t i, int row,
-                    int first)
+static size_t fill_row(mps2p_solver *s, const ppe_system *sys, double dt, size_t i, int row,
+                       int *column, double *value, size_t first)
 {
     const double re = s->params.re_laplacian * s->l0;
     const double c = 2.0 * 2 / (s->lambda * s->n0_laplacian);
@@ -135,9 +135,8 @@ static int fill_row(mps2p_solver *s, const ppe_system *sys, double dt, size_t i,
     const double gx = s->params.gravity[0], gy = s->params.gravity[1];
     const neighbour_list *nl = &s->neighbours;
     const double *position = s->state.position;
-    sparse_matrix *m = &s->matrix;
-    int next = first;
-    int diagonal_at = -1;
+    size_t next = first;
+    long diagonal_at = -1;
     double ghost_sum = 0.0;
     double diagonal = sys->density[i] * s->params.compressibility / (dt * dt);
     for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
@@ -161,21 +160,21 @@ static int fill_row(mps2p_solver *s, const ppe_system *sys, double dt, size_t i,
         if (s->unknown_of[j] < 0)
             continue;
         if (diagonal_at < 0 && j > i)
-            diagonal_at = next++; /* keep columns sorted */
-        m->column[next] = (int)s->unknown_of[j];
-        m->value[next] = -c * w;
+            diagonal_at = (long)next++; /* keep columns sorted */
+        column[next] = (int)s->unknown_of[j];
+        value[next] = -c * w;
         next++;
     }
     if (diagonal_at < 0)
-        diagonal_at = next++;
+        diagonal_at = (long)next++;
     /* a free-surface particle's row: the Laplacian with its missing
      * neighbours as the linear extrapolation to p = 0 half a spacing out,
      * and no source (its number density is short by those neighbours) */
     const int at_surface = sys->surface[i] && sys->surface_diagonal;
     if (at_surface)
         diagonal += sys->surface_diagonal[i];
-    m->column[diagonal_at] = row;
-    m->value[diagonal_at] = diagonal;
+    column[diagonal_at] = row;
+    value[diagonal_at] = diagonal;
     s->rhs[row] = at_surface ? 0.0 : source_term(s, sys, i, dt);
     if (ghosts)
         s->rhs[row] += ghost_sum;
@@ -183,33 +182,142 @@ static int fill_row(mps2p_solver *s, const ppe_system *sys, double dt, size_t i,
     return next;
 }
 
-/* Several threads and at least REDUCTION_BLOCK unknowns: the rows' lengths
- * counted, then each row filled into its own slots (below). */
+/* When the runs' room passes the int index range or the memory at hand:
+ * the rows' lengths counted, then each row filled into its own slots. */
 static int assemble_in_two_passes(mps2p_solver *s, const ppe_system *sys, double dt);
 
-/* One thread, or fewer than REDUCTION_BLOCK unknowns: each row is filled
- * where the last one ended, room made from the bound of its neighbour list
- * (about 1.3 times its entries), with no counting pass; the same matrix as
- * two passes. Where that bound passes the
- * int index range or the memory at hand, the two passes decide, from the
- * exact count (and report it). */
-static int assemble_in_one_pass(mps2p_solver *s, const ppe_system *sys, double dt)
+/* Runs whose bookkeeping an assembly keeps on the stack. */
+#define STACK_RUNS 8
+
+/* Where a run of rows is filled: its entries and their room. */
+typedef struct row_run {
+    int *column;
+    double *value;
+    size_t capacity, entries;
+} row_run;
+
+static int reserve_run(row_run *run, size_t entries)
+{
+    if (entries <= run->capacity)
+        return 1;
+    size_t capacity = entries + entries / 16 + 16;
+    int *column = realloc(run->column, capacity * sizeof *column);
+    if (column)
+        run->column = column;
+    double *value = realloc(run->value, capacity * sizeof *value);
+    if (value)
+        run->value = value;
+    if (!column || !value)
+        return 0;
+    run->capacity = capacity;
+    return 1;
+}
+
+/* The rows of particles [first, end), each filled where the last one ended,
+ * room made from the bound of its neighbour list (about 1.3 times its
+ * entries): no counting pass. row_start gets the offsets within the run. */
+static int fill_run(mps2p_solver *s, const ppe_system *sys, double dt, size_t first,
+                    size_t end, row_run *run)
 {
     const neighbour_list *nl = &s->neighbours;
     sparse_matrix *m = &s->matrix;
-    int next = 0;
-    for (size_t i = 0; i < s->count; i++) {
+    size_t next = 0;
+    for (size_t i = first; i < end; i++) {
         int row = s->unknown_of[i];
         if (row < 0)
             continue;
-        size_t bound = (size_t)next + (nl->start[i + 1] - nl->start[i]) + 1;
-        if (bound > (size_t)INT_MAX || grow_matrix(m, m->rows, bound) != MPS2P_OK)
-            return assemble_in_two_passes(s, sys, dt);
-        m->row_start[row] = next;
-        next = fill_row(s, sys, dt, i, row, next);
+        size_t bound = next + (nl->start[i + 1] - nl->start[i]) + 1;
+        if (bound > (size_t)INT_MAX || !reserve_run(run, bound))
+            return MPS2P_ERR_NOMEM;
+        m->row_start[row] = (int)next;
+        next = fill_row(s, sys, dt, i, row, run->column, run->value, next);
     }
-    m->row_start[m->rows] = next;
+    run->entries = next;
     return MPS2P_OK;
+}
+
+/* Each thread fills a contiguous run of rows in one pass, the first straight
+ * into the matrix, the others into room of their own, copied in behind it
+ * once every run's length is known (as the neighbour list's runs). Every
+ * row is filled by one thread as with one: the same matrix for any team. */
+static int assemble_in_runs(mps2p_solver *s, const ppe_system *sys, double dt)
+{
+    sparse_matrix *m = &s->matrix;
+    const size_t n = s->count;
+    /* a small system (the liquid's beside a large gas, about 450 rows in the
+     * paper's case) in one run: its rows are too few to share */
+    const size_t runs = m->rows < REDUCTION_BLOCK ? 1 : (size_t)team_size(s->params.threads);
+    row_run stack_runs[STACK_RUNS];
+    size_t stack_offsets[STACK_RUNS];
+    int stack_first_rows[STACK_RUNS + 1];
+    row_run *run = runs <= STACK_RUNS ? stack_runs : calloc(runs, sizeof *run);
+    size_t *offset = runs <= STACK_RUNS ? stack_offsets : calloc(runs, sizeof *offset);
+    int *first_row = runs <= STACK_RUNS ? stack_first_rows : calloc(runs + 1, sizeof *first_row);
+    size_t stack_splits[STACK_RUNS + 1];
+    size_t *split = runs <= STACK_RUNS ? stack_splits : calloc(runs + 1, sizeof *split);
+    int failed = !run || !offset || !first_row || !split;
+    if (!failed) {
+        /* runs of equal numbers of rows (the unknowns are numbered in
+         * particle order; a scene's phases and walls lie in blocks of it) */
+        size_t r = 0;
+        for (size_t i = 0; i < n && r < runs; i++)
+            while (r < runs && s->unknown_of[i] >= 0 &&
+                   (size_t)s->unknown_of[i] >= (size_t)m->rows * r / runs) {
+                split[r] = i;
+                first_row[r] = s->unknown_of[i];
+                r++;
+            }
+        for (; r <= runs; r++) {
+            split[r] = n;
+            first_row[r] = m->rows;
+        }
+        split[0] = 0;
+        run[0] = (row_run){m->column, m->value, m->capacity, 0};
+        for (size_t r = 1; r < runs; r++)
+            run[r] = (row_run){NULL, NULL, 0, 0};
+        PARALLEL_FOR(s->params.threads, schedule(static, 1) reduction(| : failed) if (runs > 1),
+        for (size_t r = 0; r < runs; r++) {
+            failed |= fill_run(s, sys, dt, split[r], split[r + 1], &run[r]) != MPS2P_OK;
+        });
+        /* the first run's room is the matrix's, perhaps moved */
+        m->column = run[0].column;
+        m->value = run[0].value;
+        m->capacity = run[0].capacity;
+    }
+    size_t total = 0;
+    if (!failed) {
+        for (size_t r = 0; r < runs; r++) {
+            offset[r] = total;
+            total += run[r].entries;
+        }
+        failed = total > (size_t)INT_MAX || grow_matrix(m, m->rows, total) != MPS2P_OK;
+    }
+    if (!failed) {
+        PARALLEL_FOR(s->params.threads, schedule(static, 1) if (runs > 2),
+        for (size_t r = 1; r < runs; r++) {
+            if (run[r].entries > 0) {
+                memcpy(m->column + offset[r], run[r].column, run[r].entries * sizeof(int));
+                memcpy(m->value + offset[r], run[r].value, run[r].entries * sizeof(double));
+            }
+            for (int row = first_row[r]; row < first_row[r + 1]; row++)
+                m->row_start[row] += (int)offset[r];
+        });
+        m->row_start[m->rows] = (int)total;
+    }
+    for (size_t r = 1; r < runs && run; r++) {
+        free(run[r].column);
+        free(run[r].value);
+    }
+    if (run != stack_runs)
+        free(run);
+    if (offset != stack_offsets)
+        free(offset);
+    if (first_row != stack_first_rows)
+        free(first_row);
+    if (split != stack_splits)
+        free(split);
+    /* the two passes decide from the exact count, and report it */
+    return failed ? assemble_in_two_passes(s, sys, dt) : MPS2P_OK;
 }
 
 /* The rows' lengths counted, a row per thread at a time, then each row
@@ -255,7 +363,7 @@ static int assemble_in_two_passes(mps2p_solver *s, const ppe_system *sys, double
     for (size_t i = 0; i < s->count; i++) {
         int row = s->unknown_of[i];
         if (row >= 0)
-            fill_row(s, sys, dt, i, row, m->row_start[row]);
+            fill_row(s, sys, dt, i, row, m->column, m->value, (size_t)m->row_start[row]);
     });
     return MPS2P_OK;
 }
@@ -339,12 +447,7 @@ int pressure_assemble_system(mps2p_solver *s, double dt, ppe_system *sys)
         return fail(s->error, MPS2P_ERR_NOMEM,
                     "out of memory for the pressure matrix (%ld rows)", unknowns);
     s->matrix.rows = (int)unknowns;
-    /* a small system (the liquid's beside a large gas, about 450 rows in the
-     * paper's case) in one pass on any number of threads: its rows are too
-     * few to share, and the passes' loops run over every particle */
-    return team_size(s->params.threads) == 1 || unknowns < REDUCTION_BLOCK
-               ? assemble_in_one_pass(s, sys, dt)
-               : assemble_in_two_passes(s, sys, dt);
+    return assemble_in_runs(s, sys, dt);
 }
 
 int pressure_solve_system(mps2p_solver *s, ppe_system *sys)

@@ -19,9 +19,18 @@ static const unsigned char *row_mask(const mps2p_solver *s, size_t i)
     return s->viscosity_mask && !s->viscosity_unmasked[i] ? s->viscosity_mask : NULL;
 }
 
-/* One thread: laplacian_masked_at's sums with each pair's weight computed
- * once, from the row of its lower index, and its term added to both rows
- * (first_above in numerics.h: the same bits as row by row). */
+/* Whether row i takes the term of neighbour j. */
+static int takes_term(const mps2p_solver *s, size_t i, size_t j)
+{
+    const unsigned char *mask = row_mask(s, i);
+    return viscous(s, i) && (!mask || mask[j]);
+}
+
+/* The MPS Laplacian of the velocity of each viscous row (laplacian_masked_at's
+ * sums), times its viscosity, with each pair's weight computed once, from
+ * the row of its lower index, and its term added to both rows, in blocks of
+ * rows on the threads (first_above and pair_block_first in numerics.h: the
+ * same bits as row by row). */
 static void laplacians_pairwise(mps2p_solver *s, const double *velocity, double *acceleration)
 {
     const double re = s->params.re_laplacian * s->l0;
@@ -29,59 +38,64 @@ static void laplacians_pairwise(mps2p_solver *s, const double *velocity, double 
     const neighbour_rows rows = {nl->start, nl->index};
     const double *position = s->state.position;
     const double factor = 2.0 * 2 / (s->lambda * s->n0_laplacian);
-    memset(acceleration, 0, 2 * s->count * sizeof *acceleration);
-    for (size_t i = 0; i < s->count; i++) {
-        const int row_i = viscous(s, i);
-        const unsigned char *mask_i = row_mask(s, i);
-        for (size_t k = first_above(rows, i); k < nl->start[i + 1]; k++) {
-            size_t j = nl->index[k];
-            const unsigned char *mask_j = row_mask(s, j);
-            int to_i = row_i && (!mask_i || mask_i[j]);
-            int to_j = viscous(s, j) && (!mask_j || mask_j[i]);
-            if (!to_i && !to_j)
-                continue;
-            double dx = position[2 * j] - position[2 * i];
-            double dy = position[2 * j + 1] - position[2 * i + 1];
-            double w = kernel_weight_squared(dx * dx + dy * dy, re);
-            if (w == 0.0)
-                continue;
-            for (size_t c = 0; c < 2; c++) {
-                if (to_i)
-                    acceleration[2 * i + c] += (velocity[2 * j + c] - velocity[2 * i + c]) * w;
-                if (to_j)
-                    acceleration[2 * j + c] += (velocity[2 * i + c] - velocity[2 * j + c]) * w;
+    const size_t blocks = (size_t)team_size(s->params.threads);
+    PARALLEL_FOR(s->params.threads, schedule(static, 1) if (blocks > 1),
+    for (size_t b = 0; b < blocks; b++) {
+        const size_t first = pair_block_first(s->count, blocks, b);
+        const size_t end = pair_block_end(s->count, blocks, b);
+        for (size_t i = first; i < end; i++) {
+            double *a = &acceleration[2 * i];
+            a[0] = a[1] = 0.0;
+            for (size_t k = nl->start[i]; k < nl->start[i + 1] && nl->index[k] < first; k++) {
+                size_t j = nl->index[k];
+                if (!takes_term(s, i, j))
+                    continue;
+                double dx = position[2 * j] - position[2 * i];
+                double dy = position[2 * j + 1] - position[2 * i + 1];
+                double w = kernel_weight_squared(dx * dx + dy * dy, re);
+                if (w == 0.0)
+                    continue;
+                for (size_t c = 0; c < 2; c++)
+                    a[c] += (velocity[2 * j + c] - velocity[2 * i + c]) * w;
             }
         }
-        if (row_i) {
-            double *a = &acceleration[2 * i];
-            a[0] *= factor;
-            a[1] *= factor;
-            a[0] *= s->viscosity[i];
-            a[1] *= s->viscosity[i];
+        for (size_t i = first; i < end; i++) {
+            const int row_i = viscous(s, i);
+            const unsigned char *mask_i = row_mask(s, i);
+            for (size_t k = first_above(rows, i); k < nl->start[i + 1]; k++) {
+                size_t j = nl->index[k];
+                int to_i = row_i && (!mask_i || mask_i[j]);
+                int to_j = j < end && takes_term(s, j, i);
+                if (!to_i && !to_j)
+                    continue;
+                double dx = position[2 * j] - position[2 * i];
+                double dy = position[2 * j + 1] - position[2 * i + 1];
+                double w = kernel_weight_squared(dx * dx + dy * dy, re);
+                if (w == 0.0)
+                    continue;
+                for (size_t c = 0; c < 2; c++) {
+                    if (to_i)
+                        acceleration[2 * i + c] += (velocity[2 * j + c] - velocity[2 * i + c]) * w;
+                    if (to_j)
+                        acceleration[2 * j + c] += (velocity[2 * i + c] - velocity[2 * j + c]) * w;
+                }
+            }
+            if (row_i) {
+                double *a = &acceleration[2 * i];
+                a[0] *= factor;
+                a[1] *= factor;
+                a[0] *= s->viscosity[i];
+                a[1] *= s->viscosity[i];
+            }
         }
-    }
+    });
 }
 
 int viscosity_apply(mps2p_solver *s, double dt)
 {
     double *velocity = s->state.velocity;
     double *acceleration = s->scratch;
-    if (team_size(s->params.threads) == 1) {
-        laplacians_pairwise(s, velocity, acceleration);
-    } else {
-        /* Each particle writes only its own entries: any split among threads
-         * gives the same bits (so do the other particle loops). */
-        PARALLEL_FOR(s->params.threads, schedule(static),
-        for (size_t i = 0; i < s->count; i++) {
-            double *a = &acceleration[2 * i];
-            a[0] = a[1] = 0.0;
-            if (!viscous(s, i))
-                continue;
-            laplacian_masked_at(s, i, velocity, 2, row_mask(s, i), a);
-            a[0] *= s->viscosity[i];
-            a[1] *= s->viscosity[i];
-        });
-    }
+    laplacians_pairwise(s, velocity, acceleration);
     PARALLEL_FOR(s->params.threads, schedule(static),
     for (size_t i = 0; i < s->count; i++) {
         if (s->kind[i] != MPS2P_KIND_FLUID)

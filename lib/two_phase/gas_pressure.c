@@ -40,10 +40,25 @@ static const double *gas_number_density(mps2p_solver *s)
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *position = s->state.position;
     double *out = tp->gas_n;
-    if (team_size(s->params.threads) == 1) {
-        /* each pair's weight once, added to both rows (first_above) */
-        memset(out, 0, s->count * sizeof *out);
-        for (size_t i = 0; i < s->count; i++) {
+    const size_t blocks = (size_t)team_size(s->params.threads);
+    /* each pair's weight once, added to both rows (first_above, pair_block_first) */
+    PARALLEL_FOR(s->params.threads, schedule(static, 1) if (blocks > 1),
+    for (size_t b = 0; b < blocks; b++) {
+        const size_t first = pair_block_first(s->count, blocks, b);
+        const size_t end = pair_block_end(s->count, blocks, b);
+        for (size_t i = first; i < end; i++) {
+            double n = 0.0;
+            for (size_t k = nl.start[i]; k < nl.start[i + 1] && nl.index[k] < first; k++) {
+                size_t j = nl.index[k];
+                double dx = position[2 * j] - position[2 * i];
+                double dy = position[2 * j + 1] - position[2 * i + 1];
+                double w = kernel_weight_squared(dx * dx + dy * dy, re);
+                double volume_j = liquid_volume(s, j);
+                n += volume_j > 0.0 ? w * volume_j : w;
+            }
+            out[i] = n;
+        }
+        for (size_t i = first; i < end; i++) {
             double n = out[i];
             const double volume_i = liquid_volume(s, i);
             for (size_t k = first_above(nl, i); k < nl.start[i + 1]; k++) {
@@ -53,24 +68,11 @@ static const double *gas_number_density(mps2p_solver *s)
                 double w = kernel_weight_squared(dx * dx + dy * dy, re);
                 double volume_j = liquid_volume(s, j);
                 n += volume_j > 0.0 ? w * volume_j : w;
-                out[j] += volume_i > 0.0 ? w * volume_i : w;
+                if (j < end)
+                    out[j] += volume_i > 0.0 ? w * volume_i : w;
             }
             out[i] = n;
         }
-        return out;
-    }
-    PARALLEL_FOR(s->params.threads, schedule(static),
-    for (size_t i = 0; i < s->count; i++) {
-        double n = 0.0;
-        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
-            size_t j = nl.index[k];
-            double dx = position[2 * j] - position[2 * i];
-            double dy = position[2 * j + 1] - position[2 * i + 1];
-            double w = kernel_weight_squared(dx * dx + dy * dy, re);
-            double volume_j = liquid_volume(s, j);
-            n += volume_j > 0.0 ? w * volume_j : w;
-        }
-        out[i] = n;
     });
     return tp->gas_n;
 }
@@ -167,11 +169,22 @@ static const double *gas_source_density(mps2p_solver *s, const double *n_gas)
     return copied ? tp->gas_n : n_gas;
 }
 
+void gas_pressure_prepare(mps2p_solver *s)
+{
+    two_phase *tp = s->phases;
+    tp->gas_n_seen = gas_number_density(s);
+    tp->gas_voids = gas_free_surface(s, tp->gas_n_seen);
+    tp->gas_prepared = 1;
+}
+
 int gas_pressure_solve(mps2p_solver *s, double dt)
 {
     two_phase *tp = s->phases;
-    const double *n_gas = gas_number_density(s);
-    const int voids = gas_free_surface(s, n_gas);
+    if (!tp->gas_prepared)
+        gas_pressure_prepare(s);
+    tp->gas_prepared = 0; /* used once */
+    const double *n_gas = tp->gas_n_seen;
+    const int voids = tp->gas_voids;
     ppe_system gas = {.part = tp->gas_part,
                       .surface = tp->gas_surface,
                       .n_star = voids ? gas_source_density(s, n_gas) : n_gas,

@@ -17,40 +17,42 @@ static void heavy_number_density(const mps2p_solver *s, double *out)
     const double re = s->params.re_density * s->l0;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *position = s->state.position;
-    if (team_size(s->params.threads) == 1) {
-        /* each pair's weight once, added to both rows (first_above) */
-        memset(out, 0, s->count * sizeof *out);
-        for (size_t i = 0; i < s->count; i++) {
+    const size_t blocks = (size_t)team_size(s->params.threads);
+    /* each pair's weight once, added to both rows (first_above, pair_block_first) */
+    PARALLEL_FOR(s->params.threads, schedule(static, 1) if (blocks > 1),
+    for (size_t b = 0; b < blocks; b++) {
+        const size_t first = pair_block_first(s->count, blocks, b);
+        const size_t end = pair_block_end(s->count, blocks, b);
+        for (size_t i = first; i < end; i++) {
+            double n = 0.0;
+            for (size_t k = nl.start[i]; k < nl.start[i + 1] && nl.index[k] < first; k++) {
+                size_t j = nl.index[k];
+                if (!tp->heavy_mask[j])
+                    continue;
+                double dx = position[2 * j] - position[2 * i];
+                double dy = position[2 * j + 1] - position[2 * i + 1];
+                double w = kernel_weight_squared(dx * dx + dy * dy, re);
+                n += tp->light[j] ? tp->join_weight[j] * w : w;
+            }
+            out[i] = n;
+        }
+        for (size_t i = first; i < end; i++) {
             double n = out[i];
             for (size_t k = first_above(nl, i); k < nl.start[i + 1]; k++) {
                 size_t j = nl.index[k];
-                if (!tp->heavy_mask[j] && !tp->heavy_mask[i])
+                const int to_j = j < end && tp->heavy_mask[i];
+                if (!tp->heavy_mask[j] && !to_j)
                     continue;
                 double dx = position[2 * j] - position[2 * i];
                 double dy = position[2 * j + 1] - position[2 * i + 1];
                 double w = kernel_weight_squared(dx * dx + dy * dy, re);
                 if (tp->heavy_mask[j])
                     n += tp->light[j] ? tp->join_weight[j] * w : w;
-                if (tp->heavy_mask[i])
+                if (to_j)
                     out[j] += tp->light[i] ? tp->join_weight[i] * w : w;
             }
             out[i] = n;
         }
-        return;
-    }
-    PARALLEL_FOR(s->params.threads, schedule(static),
-    for (size_t i = 0; i < s->count; i++) {
-        double n = 0.0;
-        for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
-            size_t j = nl.index[k];
-            if (!tp->heavy_mask[j])
-                continue;
-            double dx = position[2 * j] - position[2 * i];
-            double dy = position[2 * j + 1] - position[2 * i + 1];
-            double w = kernel_weight_squared(dx * dx + dy * dy, re);
-            n += tp->light[j] ? tp->join_weight[j] * w : w;
-        }
-        out[i] = n;
     });
 }
 
@@ -91,6 +93,12 @@ static void start_density_follows_join(mps2p_solver *s, const double *old_weight
             tp->heavy_n_start[i] += change * kernel_weight(sqrt(dx * dx + dy * dy), re);
         }
     }
+}
+
+static int liquid_system_solve(mps2p_solver *s, double dt, ppe_system *heavy)
+{
+    int status = pressure_assemble_system(s, dt, heavy);
+    return status == MPS2P_OK ? pressure_solve_system(s, heavy) : status;
 }
 
 /* The liquid PPE: light particles ignored unless joined, liquid touching the
@@ -142,9 +150,18 @@ int liquid_pressure_solve(mps2p_solver *s, double dt)
                         .hydrostatic_ghosts =
                             s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC,
                         .surface_diagonal = surface_diagonal_of(s)};
-    int status = pressure_assemble_system(s, dt, &heavy);
-    if (status == MPS2P_OK)
-        status = pressure_solve_system(s, &heavy);
+    /* With threads, the gas's number density and free surface (which read
+     * only what is set above) are prepared beside this solve: the liquid's
+     * system is too small to share between threads (docs/performance.md) */
+    int status = MPS2P_OK;
+    tp->gas_prepared = 0;
+    if (team_size(s->params.threads) > 1)
+        SIDE_BY_SIDE(s->params.threads, status = liquid_system_solve(s, dt, &heavy),
+                     gas_pressure_prepare(s));
+    else
+        status = liquid_system_solve(s, dt, &heavy);
+    if (status != MPS2P_OK)
+        tp->gas_prepared = 0; /* a failed step: its next try prepares afresh */
     s->ppe_unknowns = tp->heavy_unknowns = heavy.unknowns;
     s->ppe_iterations = tp->heavy_iterations = heavy.iterations;
     s->ppe_iterations_total += heavy.iterations;

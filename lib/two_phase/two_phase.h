@@ -46,6 +46,10 @@ typedef struct two_phase {
     size_t buffered_count;      /* light particles the gas buffer damped */
     size_t heavy_unknowns, heavy_iterations, gas_unknowns, gas_iterations;
     double gas_pressure_max;
+    /* the gas PPE's number density and free surface, prepared beside the
+     * liquid's solve (gas_pressure_prepare) for this step's gas solve */
+    int gas_prepared, gas_voids;
+    const double *gas_n_seen;
 } two_phase;
 
 
@@ -84,6 +88,9 @@ int interface_join(mps2p_solver *s, double dt);        /* interface_reaction.c *
 int liquid_pressure_solve(mps2p_solver *s, double dt); /* liquid_pressure.c */
 /* The gas PPE, then the state's pressure per phase (phases_pressure_combine). */
 int gas_pressure_solve(mps2p_solver *s, double dt);    /* gas_pressure.c */
+/* The gas solve's number density and free surface, before its matrix: run
+ * by the liquid's solve beside its own on two threads, else by the gas's. */
+void gas_pressure_prepare(mps2p_solver *s);
 int phases_correct(mps2p_solver *s, double dt);        /* correction.c: per phase */
 /* The gas's damping layer (effect gas_buffer): its top taken at the first
  * step's start (from phases_step_start), then the damping after the drift. */
