@@ -161,9 +161,12 @@ size_t linear_solver_memory(const linear_solver *ls)
     return bytes;
 }
 
-/* Vectors shorter than a block stay on the calling thread: a fork costs
- * more than the loop. */
+/* A product with fewer rows than a block stays on the calling thread: a
+ * fork costs more than the loop. The vector loops (a few nanoseconds a row)
+ * stay there below VECTOR_PARALLEL_FROM rows: at 4,700 (the paper's gas)
+ * they took twice as long on two threads as on one (docs/performance.md). */
 #define PARALLEL_FROM REDUCTION_BLOCK
+#define VECTOR_PARALLEL_FROM (8 * REDUCTION_BLOCK)
 
 static size_t block_count(size_t n)
 {
@@ -224,7 +227,7 @@ static double dot(const linear_solver *ls, const double *x, const double *y, siz
 {
     const size_t blocks = block_count(n);
     double *partial = partial_sums(ls, n);
-    PARALLEL_FOR(ls->threads, schedule(static) if (blocks > 1),
+    PARALLEL_FOR(ls->threads, schedule(static) if (n >= VECTOR_PARALLEL_FROM),
     for (size_t b = 0; b < blocks; b++) {
         size_t first = b * REDUCTION_BLOCK;
         size_t length = n - first < REDUCTION_BLOCK ? n - first : REDUCTION_BLOCK;
@@ -243,7 +246,7 @@ static double relative_residual(const linear_solver *ls, const sparse_matrix *a,
     const size_t n = (size_t)a->rows, blocks = block_count(n);
     double *work = ls->work, *partial = partial_sums(ls, n);
     multiply(ls, a, x, work);
-    PARALLEL_FOR(ls->threads, schedule(static) if (blocks > 1),
+    PARALLEL_FOR(ls->threads, schedule(static) if (n >= VECTOR_PARALLEL_FROM),
     for (size_t block = 0; block < blocks; block++) {
         size_t first = block * REDUCTION_BLOCK;
         size_t end = n - first < REDUCTION_BLOCK ? n : first + REDUCTION_BLOCK;
@@ -502,7 +505,7 @@ static int add_coarse_correction(const linear_solver *ls, const double *r, doubl
     }
     const size_t blocks = block_count(n);
     double *partial = partial_sums(ls, n);
-    PARALLEL_FOR(ls->threads, schedule(static) if (blocks > 1),
+    PARALLEL_FOR(ls->threads, schedule(static) if (n >= VECTOR_PARALLEL_FROM),
     for (size_t block = 0; block < blocks; block++) {
         size_t first = block * REDUCTION_BLOCK;
         size_t end = n - first < REDUCTION_BLOCK ? n : first + REDUCTION_BLOCK;
@@ -588,7 +591,7 @@ static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, 
         double alpha = rz / pq;
         /* x += alpha p, r -= alpha q, z = M^-1 r, and the block sums of r.z
          * and r.r, in one pass over each block */
-        PARALLEL_FOR(ls->threads, schedule(static) if (blocks > 1),
+        PARALLEL_FOR(ls->threads, schedule(static) if (n >= VECTOR_PARALLEL_FROM),
         for (size_t block = 0; block < blocks; block++) {
             size_t first = block * REDUCTION_BLOCK;
             size_t end = n - first < REDUCTION_BLOCK ? n : first + REDUCTION_BLOCK;
@@ -620,7 +623,7 @@ static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, 
         }
         double beta = rz_next / rz;
         rz = rz_next;
-        PARALLEL_FOR(ls->threads, schedule(static) if (n >= PARALLEL_FROM),
+        PARALLEL_FOR(ls->threads, schedule(static) if (n >= VECTOR_PARALLEL_FROM),
         for (size_t i = 0; i < n; i++) {
             p[i] = p[i] * beta + z[i];
         });
