@@ -217,6 +217,16 @@ static inline size_t pair_block_first(size_t count, size_t blocks, size_t b)
 }
 #define pair_block_end(count, blocks, b) pair_block_first(count, blocks, (b) + 1)
 
+/* The end of row i's entries below limit (a block's end): the entries from
+ * there on belong to rows another block sums. */
+static inline size_t row_end_below(neighbour_rows rows, size_t i, size_t limit)
+{
+    size_t k = rows.start[i + 1], first = rows.start[i];
+    while (k > first && rows.index[k - 1] >= limit)
+        k--;
+    return k;
+}
+
 /* ---- linear solvers (linear_solver.c) ---- */
 
 /* GAMG: PETSc's CG with algebraic multigrid, only with option petsc

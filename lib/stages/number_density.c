@@ -8,6 +8,14 @@
 #include <math.h>
 #include <string.h>
 
+/* The density weight of the pair (i, j): the same bits from either row. */
+static inline double pair_weight(const double *position, size_t i, size_t j, double re)
+{
+    double dx = position[2 * j] - position[2 * i];
+    double dy = position[2 * j + 1] - position[2 * i + 1];
+    return kernel_weight_squared(dx * dx + dy * dy, re);
+}
+
 void number_density_compute(mps2p_solver *s, double *out)
 {
     const double re = s->params.re_density * s->l0;
@@ -21,25 +29,22 @@ void number_density_compute(mps2p_solver *s, double *out)
         const size_t end = pair_block_end(s->count, blocks, b);
         for (size_t i = first; i < end; i++) {
             double n = 0.0;
-            for (size_t k = nl.start[i]; k < nl.start[i + 1] && nl.index[k] < first; k++) {
-                size_t j = nl.index[k];
-                double dx = position[2 * j] - position[2 * i];
-                double dy = position[2 * j + 1] - position[2 * i + 1];
-                n += kernel_weight_squared(dx * dx + dy * dy, re);
-            }
+            for (size_t k = nl.start[i]; k < nl.start[i + 1] && nl.index[k] < first; k++)
+                n += pair_weight(position, i, nl.index[k], re);
             out[i] = n;
         }
         for (size_t i = first; i < end; i++) {
             double n = out[i];
-            for (size_t k = first_above(nl, i); k < nl.start[i + 1]; k++) {
+            const size_t inside = row_end_below(nl, i, end);
+            size_t k = first_above(nl, i);
+            for (; k < inside; k++) {
                 size_t j = nl.index[k];
-                double dx = position[2 * j] - position[2 * i];
-                double dy = position[2 * j + 1] - position[2 * i + 1];
-                double w = kernel_weight_squared(dx * dx + dy * dy, re);
+                double w = pair_weight(position, i, j, re);
                 n += w;
-                if (j < end)
-                    out[j] += w;
+                out[j] += w;
             }
+            for (; k < nl.start[i + 1]; k++)
+                n += pair_weight(position, i, nl.index[k], re);
             out[i] = n;
         }
     });

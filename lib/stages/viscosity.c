@@ -62,10 +62,11 @@ static void laplacians_pairwise(mps2p_solver *s, const double *velocity, double 
         for (size_t i = first; i < end; i++) {
             const int row_i = viscous(s, i);
             const unsigned char *mask_i = row_mask(s, i);
+            const size_t inside = row_end_below(rows, i, end);
             for (size_t k = first_above(rows, i); k < nl->start[i + 1]; k++) {
                 size_t j = nl->index[k];
                 int to_i = row_i && (!mask_i || mask_i[j]);
-                int to_j = j < end && takes_term(s, j, i);
+                int to_j = k < inside && takes_term(s, j, i);
                 if (!to_i && !to_j)
                     continue;
                 double dx = position[2 * j] - position[2 * i];

@@ -61,6 +61,7 @@ static const double *gas_number_density(mps2p_solver *s)
         for (size_t i = first; i < end; i++) {
             double n = out[i];
             const double volume_i = liquid_volume(s, i);
+            const size_t inside = row_end_below(nl, i, end);
             for (size_t k = first_above(nl, i); k < nl.start[i + 1]; k++) {
                 size_t j = nl.index[k];
                 double dx = position[2 * j] - position[2 * i];
@@ -68,7 +69,7 @@ static const double *gas_number_density(mps2p_solver *s)
                 double w = kernel_weight_squared(dx * dx + dy * dy, re);
                 double volume_j = liquid_volume(s, j);
                 n += volume_j > 0.0 ? w * volume_j : w;
-                if (j < end)
+                if (k < inside)
                     out[j] += volume_i > 0.0 ? w * volume_i : w;
             }
             out[i] = n;

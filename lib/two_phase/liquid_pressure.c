@@ -38,9 +38,11 @@ static void heavy_number_density(const mps2p_solver *s, double *out)
         }
         for (size_t i = first; i < end; i++) {
             double n = out[i];
+            /* the rows above in this block take i's term if i is seen */
+            const size_t inside = tp->heavy_mask[i] ? row_end_below(nl, i, end) : 0;
             for (size_t k = first_above(nl, i); k < nl.start[i + 1]; k++) {
                 size_t j = nl.index[k];
-                const int to_j = j < end && tp->heavy_mask[i];
+                const int to_j = k < inside;
                 if (!tp->heavy_mask[j] && !to_j)
                     continue;
                 double dx = position[2 * j] - position[2 * i];
