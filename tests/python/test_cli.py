@@ -4,6 +4,7 @@ import os
 import subprocess
 import sys
 
+import mps2p as mps2p_package
 import numpy as np
 import pytest
 
@@ -38,6 +39,30 @@ def test_run_writes_results(tmp_path):
     assert result.returncode == 0, result.stderr
     assert " ok at t = 0.01 s" in result.stdout
     assert (tmp_path / "results.h5").exists() and not (tmp_path / "snapshots.png").exists()
+
+
+def test_threads_give_the_same_results(tmp_path):
+    # the paper's water-air case briefly: its two pressure solves run side by side
+    # on two threads (docs/performance.md), the results the same bits
+    runs = {}
+    for threads in ("1", "2"):
+        out = tmp_path / threads
+        result = mps2p("run", "ikari2003_dam_break_air", "--out", str(out), "--until", "0.02",
+                       "--threads", threads, "--no-pictures", "--quiet")
+        assert result.returncode == 0, result.stderr
+        assert json.loads((out / "summary.json").read_text())["threads"] == float(threads)
+        with mps2p_package.open_results(str(out / "results.h5")) as results:
+            assert results.parameters["threads"] == float(threads)
+            last = results.snapshot(-1)
+        runs[threads] = [last[field].tobytes() for field in ("position", "velocity", "pressure")]
+    assert runs["1"] == runs["2"]
+
+
+@pytest.mark.parametrize("threads", ["-1", "1.5", "many", "2000"])
+def test_a_bad_thread_count_is_bad_input(threads):
+    result = mps2p("run", "dam_break", "--threads", threads)
+    assert result.returncode == 2 and "--threads" in result.stderr and "Traceback" not in \
+        result.stderr
 
 
 def test_series_times_are_each_sampled_once(tmp_path):

@@ -1,6 +1,6 @@
 """The `mps2p` command.
 
-    mps2p run SCENE [--until T] [--out DIR] [--no-pictures] [--quiet]
+    mps2p run SCENE [--until T] [--out DIR] [--threads N] [--no-pictures] [--quiet]
     mps2p examples            # the example scenes shipped in the package
     mps2p info [SCENE]        # without a scene: library version, path, parameters,
                               # options, statistics;
@@ -39,6 +39,17 @@ def _time(text):
     return value
 
 
+def _threads(text):
+    """argparse type: a thread count, 0 (OpenMP's default: every core) to 1024."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError("not a whole number: %r" % text) from None
+    if not 0 <= value <= 1024:
+        raise argparse.ArgumentTypeError("must be 0 to 1024, got %r" % text)
+    return value
+
+
 def parser():
     """The command's argument parser (every argument has its help)."""
     top = argparse.ArgumentParser(
@@ -55,6 +66,10 @@ def parser():
                             help="output folder (default out/<the scene's name>)")
     run_parser.add_argument("--until", metavar="T", type=_time, default=None,
                             help="stop at this time (s) instead of the scene's end_time")
+    run_parser.add_argument("--threads", metavar="N", type=_threads, default=None,
+                            help="threads of the particle loops (parameter threads; 0 = "
+                                 "every core): the same results bit for bit, faster on a "
+                                 "machine with free cores (default: the scene's, else 1)")
     run_parser.add_argument("--no-pictures", action="store_true",
                             help="write no PNG pictures (faster; no matplotlib needed)")
     run_parser.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -188,7 +203,7 @@ def _run(args):
     from .scenefile import load
     out = args.out or "out/%s" % load(args.scene).name
     summary = run(args.scene, out, until=args.until, pictures=not args.no_pictures,
-                  progress=not args.quiet)
+                  progress=not args.quiet, threads=args.threads)
     print("%s: %s at t = %.4g s after %d steps, %.3g particle-steps/s; results in %s"
           % (summary["name"], summary["status"], summary["time"], summary["steps"],
              summary["particle_steps_per_second"] or 0, out))

@@ -76,12 +76,16 @@ def particle_counts(solver, fluid_names):
     return counts
 
 
-def run(scene_path, out_dir, until=None, pictures=True, progress=False):
+def run(scene_path, out_dir, until=None, pictures=True, progress=False, threads=None):
     """Runs the scene file into out_dir; returns the summary (also written as
     summary.json). A scene that cannot be read or built raises before anything
     is written. A divergence ends the run early with status "diverged": the last
-    good state is written as a final snapshot and everything so far is kept."""
+    good state is written as a final snapshot and everything so far is kept.
+    threads, when given, replaces the scene's parameter threads (the results do
+    not depend on it)."""
     scene_file = load(scene_path)
+    if threads is not None:
+        scene_file.data.setdefault("parameters", {})["threads"] = float(threads)
     end = scene_file.end_time if until is None else float(until)
     if not (end > 0 and math.isfinite(end)):
         raise errors.SceneFileError("%s: the end time must be > 0 and finite, got %r"
@@ -170,6 +174,7 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False):
         "time": solver.time,
         "steps": steps,
         "wall_seconds": wall,
+        "threads": scene_file.data.get("parameters", {}).get("threads", 1.0),
         "stage_seconds": {k: v["seconds"] for k, v in stages.items() if v["active"]},
         "stage_calls": {k: v["calls"] for k, v in stages.items() if v["active"]},
         "particles": particle_counts(solver, scene_file.fluids),
