@@ -206,7 +206,9 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *   threads                 1     threads of the particle loops (OpenMP builds);
  *                                 0 = OpenMP's default (OMP_NUM_THREADS); per
  *                                 solver; the results are the same bits for any
- *                                 count (docs/performance.md)
+ *                                 count (docs/performance.md); called from inside
+ *                                 the host's own OpenMP parallel region, a solver
+ *                                 runs on the calling thread
  *   memory_limit            0     bytes a scene or a solver may take (bytes);
  *                                 0 = the memory the system gives the process:
  *                                 physical memory, or less under RLIMIT_AS,

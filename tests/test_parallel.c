@@ -2,7 +2,8 @@
  * dam break with 1, 2 and 3 threads, and twice with 2, gives bitwise the same
  * positions, velocities and pressure; so do a CG solve of more than one
  * reduction block and a water column collapsing under air (two phases: its
- * scan, number densities, correction per phase and both CG solves). Bad thread counts are refused. Without OpenMP every count
+ * scan, number densities, correction per phase and both CG solves), and a
+ * failed solve there reports on the calling thread. Bad thread counts are refused. Without OpenMP every count
  * runs on one thread, and the test holds trivially. */
 #include <string.h>
 #include "scenes.h"
@@ -66,7 +67,7 @@ int main(void)
     MUST(mps2p_scene_set_option(scene, "pressure_solver", "cholmod"));
     compare_counts(scene, 60, "dam break (cholmod)");
     /* a CG solve over more than one block of REDUCTION_BLOCK unknowns, and the
-     * assembly in two passes (smaller systems are filled in one) */
+     * assembly in runs of rows, one a thread (smaller systems are one run) */
     mps2p_scene *column;
     int water;
     MUST(mps2p_scene_create(0.02, &column));
@@ -94,12 +95,32 @@ int main(void)
     MUST(mps2p_scene_set_option(air_column, "pressure_solver", "cg"));
     MUST(mps2p_scene_set_param(air_column, "dt", 1e-3));
     compare_counts(air_column, 60, "water column under air (two phases, cg)");
-    /* the assembly's both paths with threads: the liquid's system in one pass
-     * (under REDUCTION_BLOCK = 1024 unknowns), the gas's, with its mask of
-     * participants, in two */
+    /* a liquid solve that fails while the gas is prepared beside it: its
+     * message is the calling thread's (SIDE_BY_SIDE runs it there) */
+    MUST(mps2p_scene_set_param(air_column, "threads", 2));
+    MUST(mps2p_scene_set_param(air_column, "cg_max_iterations", 1));
+    for (int k = 0; k < 20; k++) {
+        mps2p_solver *failing;
+        MUST(mps2p_solver_create(air_column, &failing));
+        int status = MPS2P_OK;
+        for (int step = 0; step < 20 && status == MPS2P_OK; step++)
+            status = mps2p_solver_step(failing);
+        CHECK(status == MPS2P_ERR_SOLVE, "cg_max_iterations 1: status %d, not a failed solve",
+              status);
+        CHECK(strstr(mps2p_last_error(), "pressure solve failed") != NULL &&
+                  strcmp(mps2p_last_error(), mps2p_solver_last_error(failing)) == 0,
+              "a failed solve on two threads: the caller's message is \"%s\", the solver's "
+              "\"%s\"", mps2p_last_error(), mps2p_solver_last_error(failing));
+        mps2p_solver_destroy(failing);
+    }
+    MUST(mps2p_scene_set_param(air_column, "cg_max_iterations", 0));
+    MUST(mps2p_scene_set_param(air_column, "threads", 1));
+    /* both paths with threads: the liquid's system in one run (under
+     * REDUCTION_BLOCK = 1024 unknowns), solved beside the gas's preparation
+     * (SIDE_BY_SIDE), the gas's, with its mask of participants, in runs */
     CHECK(last_unknowns[0] > 0 && last_unknowns[0] < 1024, "liquid unknowns %g, not under 1024",
           last_unknowns[0]);
-    CHECK(last_unknowns[1] >= 1024, "gas unknowns %g, under 1024: the two passes untested",
+    CHECK(last_unknowns[1] >= 1024, "gas unknowns %g, under 1024: the runs untested",
           last_unknowns[1]);
     mps2p_scene_destroy(air_column);
 

@@ -7,8 +7,9 @@
  * surface (the air over the water: 87 a step in the paper's case); the
  * coarse level takes the long ones (docs/performance.md). The aggregates
  * are those of unsmoothed aggregation multigrid: a greedy pass over A's
- * graph, every unknown with its neighbours. Serial and in row order: the
- * same bits for any number of threads. */
+ * graph, every unknown with its neighbours, serial and in row order; A_c's
+ * columns are built in runs, one a thread, each column as one thread builds
+ * it: the same bits for any number of threads. */
 #include "numerics/numerics.h"
 
 #include <cholmod.h>
@@ -213,39 +214,53 @@ static int build_columns(const coarse_level *c, const sparse_matrix *a, int firs
 static int build_coarse(coarse_level *c, const sparse_matrix *a, double threads,
                         size_t *entries_out)
 {
-    const size_t runs = a->rows < REDUCTION_BLOCK ? 1 : (size_t)team_size(threads);
+    size_t runs = a->rows < REDUCTION_BLOCK ? 1 : (size_t)team_size(threads);
     column_run stack_runs[STACK_RUNS];
     int stack_splits[STACK_RUNS + 1];
     column_run *run = runs <= STACK_RUNS ? stack_runs : calloc(runs, sizeof *run);
     int *split = runs <= STACK_RUNS ? stack_splits : calloc(runs + 1, sizeof *split);
-    int failed = !run || !split;
-    if (!failed) {
-        /* runs of about equal numbers of members */
-        size_t r = 0;
-        for (int g = 0; g <= c->count && r <= runs; g++)
-            while (r <= runs && (size_t)c->member_start[g] >= (size_t)a->rows * r / runs)
-                split[r++] = g;
-        for (; r <= runs; r++)
-            split[r] = c->count;
-        split[0] = 0;
-        split[runs] = c->count;
-        run[0] = (column_run){c->coarse_row, c->coarse_value, c->entries_capacity, 0,
-                              c->marker, c->accumulated};
+    if (!run || !split) { /* one run, as one thread: the same columns */
+        if (run != stack_runs)
+            free(run);
+        if (split != stack_splits)
+            free(split);
+        run = stack_runs;
+        split = stack_splits;
+        runs = 1;
+    }
+    int failed = 0;
+    /* runs of about equal numbers of members */
+    size_t r = 0;
+    for (int g = 0; g <= c->count && r <= runs; g++)
+        while (r <= runs && (size_t)c->member_start[g] >= (size_t)a->rows * r / runs)
+            split[r++] = g;
+    for (; r <= runs; r++)
+        split[r] = c->count;
+    split[0] = 0;
+    split[runs] = c->count;
+    run[0] = (column_run){c->coarse_row, c->coarse_value, c->entries_capacity, 0,
+                          c->marker, c->accumulated};
+    size_t ready = 1; /* runs with their marker and sums */
+    for (size_t q = 1; q < runs; q++) {
+        run[q] = (column_run){NULL, NULL, 0, 0, malloc((size_t)c->count * sizeof(int)),
+                              malloc((size_t)c->count * sizeof(double))};
+        ready += run[q].marker && run[q].accumulated;
+    }
+    if (ready < runs) { /* one run, as one thread: the same columns */
         for (size_t q = 1; q < runs; q++) {
-            run[q] = (column_run){NULL, NULL, 0, 0, malloc((size_t)c->count * sizeof(int)),
-                                  malloc((size_t)c->count * sizeof(double))};
-            failed |= !run[q].marker || !run[q].accumulated;
+            free(run[q].marker);
+            free(run[q].accumulated);
         }
+        runs = 1;
+        split[1] = c->count;
     }
-    if (!failed) {
-        PARALLEL_FOR(threads, schedule(static, 1) reduction(| : failed) if (runs > 1),
-        for (size_t q = 0; q < runs; q++) {
-            failed |= build_columns(c, a, split[q], split[q + 1], &run[q]) != MPS2P_OK;
-        });
-        c->coarse_row = run[0].row;
-        c->coarse_value = run[0].value;
-        c->entries_capacity = run[0].capacity;
-    }
+    PARALLEL_FOR(threads, schedule(static, 1) reduction(| : failed) if (runs > 1),
+    for (size_t q = 0; q < runs; q++) {
+        failed |= build_columns(c, a, split[q], split[q + 1], &run[q]) != MPS2P_OK;
+    });
+    c->coarse_row = run[0].row;
+    c->coarse_value = run[0].value;
+    c->entries_capacity = run[0].capacity;
     size_t total = 0;
     if (!failed) {
         for (size_t q = 0; q < runs; q++)
@@ -270,7 +285,7 @@ static int build_coarse(coarse_level *c, const sparse_matrix *a, double threads,
             offset += run[q].entries;
         }
     }
-    for (size_t q = 1; q < runs && run; q++) {
+    for (size_t q = 1; q < runs; q++) {
         free(run[q].row);
         free(run[q].value);
         free(run[q].marker);

@@ -22,7 +22,7 @@
 static inline int team_size(double threads)
 {
 #ifdef _OPENMP
-    if (omp_in_parallel())
+    if (threads == 1.0 || omp_in_parallel()) /* one thread: libgomp is not asked */
         return 1;
     return threads >= 1.0 ? (int)threads : omp_get_max_threads();
 #else
@@ -59,19 +59,24 @@ static inline int team_size(double threads)
 #endif
 
 /* SIDE_BY_SIDE(threads, first, second): the two statements at once, each on
- * one thread, when team_size(threads) > 1; else first, then second. They
- * must not write what the other reads or writes; each then computes what it
- * computes alone, so the results do not depend on the team. */
+ * one thread, when team_size(threads) > 1; else first, then second. first
+ * runs on the calling thread, so the per-thread error message it may set
+ * (fail) is the caller's; second must not fail. They must not write what the
+ * other reads or writes; each then computes what it computes alone, so the
+ * results do not depend on the team. */
 #ifdef _OPENMP
 #define SIDE_BY_SIDE(threads, first, second)                                     \
     do {                                                                         \
         if (team_size(threads) > 1) {                                            \
-            OMP_PRAGMA_(omp parallel sections num_threads(2))                    \
+            OMP_PRAGMA_(omp parallel num_threads(2))                             \
             {                                                                    \
-                OMP_PRAGMA_(omp section)                                         \
-                { first; }                                                       \
-                OMP_PRAGMA_(omp section)                                         \
-                { second; }                                                      \
+                /* a team of one (OpenMP may give fewer): both, in turn */   \
+                if (omp_get_thread_num() == 0) {                                 \
+                    first;                                                       \
+                }                                                                \
+                if (omp_get_thread_num() == 1 || omp_get_num_threads() == 1) {   \
+                    second;                                                      \
+                }                                                                \
             }                                                                    \
         } else {                                                                 \
             first;                                                               \

@@ -153,11 +153,12 @@ int liquid_pressure_solve(mps2p_solver *s, double dt)
                             s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC,
                         .surface_diagonal = surface_diagonal_of(s)};
     /* With threads, the gas's number density and free surface (which read
-     * only what is set above) are prepared beside this solve: the liquid's
-     * system is too small to share between threads (docs/performance.md) */
+     * only what is set above) are prepared beside this solve while the
+     * liquid's system (last step's size) is too small to share between
+     * threads: about 450 rows in the paper's case (docs/performance.md) */
     int status = MPS2P_OK;
     tp->gas_prepared = 0;
-    if (team_size(s->params.threads) > 1)
+    if (team_size(s->params.threads) > 1 && tp->heavy_unknowns < REDUCTION_BLOCK)
         SIDE_BY_SIDE(s->params.threads, status = liquid_system_solve(s, dt, &heavy),
                      gas_pressure_prepare(s));
     else
