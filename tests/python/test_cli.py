@@ -58,6 +58,26 @@ def test_threads_give_the_same_results(tmp_path):
     assert runs["1"] == runs["2"]
 
 
+def test_the_environment_gives_the_thread_count_a_scene_leaves_open(tmp_path):
+    env = dict(os.environ, MPS2P_THREADS="2",
+               PYTHONPATH=PACKAGE_DIR + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    command = [sys.executable, "-m", "mps2p", "run", "dam_break", "--until", "0.01",
+               "--no-pictures", "--quiet"]
+    result = subprocess.run(command + ["--out", str(tmp_path / "env")], capture_output=True,
+                            text=True, env=env)
+    assert result.returncode == 0, result.stderr
+    assert json.loads((tmp_path / "env" / "summary.json").read_text())["threads"] == 2.0
+    # --threads wins over the environment
+    result = subprocess.run(command + ["--out", str(tmp_path / "flag"), "--threads", "1"],
+                            capture_output=True, text=True, env=env)
+    assert json.loads((tmp_path / "flag" / "summary.json").read_text())["threads"] == 1.0
+    env["MPS2P_THREADS"] = "two"
+    result = subprocess.run(command + ["--out", str(tmp_path / "bad")], capture_output=True,
+                            text=True, env=env)
+    assert result.returncode == 2 and "MPS2P_THREADS" in result.stderr and \
+        "Traceback" not in result.stderr
+
+
 @pytest.mark.parametrize("threads", ["-1", "1.5", "many", "2000"])
 def test_a_bad_thread_count_is_bad_input(threads):
     result = mps2p("run", "dam_break", "--threads", threads)

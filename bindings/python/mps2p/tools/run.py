@@ -174,7 +174,7 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False, threads=
         "time": solver.time,
         "steps": steps,
         "wall_seconds": wall,
-        "threads": scene_file.data.get("parameters", {}).get("threads", 1.0),
+        "threads": scene_file.threads(),
         "stage_seconds": {k: v["seconds"] for k, v in stages.items() if v["active"]},
         "stage_calls": {k: v["calls"] for k, v in stages.items() if v["active"]},
         "particles": particle_counts(solver, scene_file.fluids),

@@ -120,12 +120,33 @@ class SceneFile:
             raise
         return scene
 
+    def threads(self):
+        """The solver's parameter threads: the file's (or `mps2p run
+        --threads`), else the environment variable MPS2P_THREADS (as the
+        benchmarks read it; 0 = every core), else 1. The results do not depend
+        on it."""
+        if "threads" in self.data.get("parameters", {}):
+            return float(self.data["parameters"]["threads"])
+        text = os.environ.get("MPS2P_THREADS", "").strip()
+        if not text:
+            return 1.0
+        try:
+            value = int(text)
+        except ValueError:
+            value = -1
+        if not 0 <= value <= 1024:
+            raise errors.SceneFileError("environment variable MPS2P_THREADS: a thread count "
+                                        "0 to 1024 (0: every core), got %r" % text)
+        return float(value)
+
     def make_solver(self):
         """The solver for this scene; what the C library refuses at creation
         (an effect the scene cannot support, overlapping particles) is reported
         against this file."""
         from ..solver import Solver
+        threads = self.threads()
         with self.build() as scene:
+            scene.set_param("threads", threads)
             try:
                 return Solver(scene)
             except errors.Error as e:
