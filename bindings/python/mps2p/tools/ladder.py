@@ -156,7 +156,9 @@ def bubble_rise(name, until=2.0, sample_every=0.01, path=None):
     speed until the first of them left the water, against 0.5 sqrt(g R) (R the
     equivalent radius), the water's RMS speed at the end and how flat the
     surface is then (the largest distance of a column's top from their
-    mean, in l0), and the most fluid particles outside the tank at a sample."""
+    mean, in l0), the most fluid particles outside the tank at a sample, and
+    at the end the statistics gas_in_bubbles (air cut off from the open gas)
+    and gas_in_liquid beside the column test."""
     path = path or scene_path(name)
     sf, s = _solver(path)
     with s:
@@ -197,6 +199,10 @@ def bubble_rise(name, until=2.0, sample_every=0.01, path=None):
         level = np.array(list(tops_end.values()))
         surface = float(np.abs(level - level.mean()).max() / sf.l0)
         end = s.time
+        # beside the column test: the library's own counts of air cut off from
+        # the open gas (enclosed) and inside the liquid (docs/two-phase.md)
+        enclosed_at_end = int(s.stat("gas_in_bubbles"))
+        in_liquid_at_end = int(s.stat("gas_in_liquid"))
     estimate = 0.5 * math.sqrt(G * radius)
     return {"bubble_particles": int(len(bubble)), "status": status, "end": end,
             "all_out_at": all_out_at, "left_in_water": in_water[-1][1] if in_water else None,
@@ -204,6 +210,7 @@ def bubble_rise(name, until=2.0, sample_every=0.01, path=None):
             "rise_ratio": None if rise is None else rise / estimate,
             "water_rms_at_end": water_rms, "surface_deviation_at_end": surface,
             "most_outside_tank": most_outside,
+            "gas_in_bubbles_at_end": enclosed_at_end, "gas_in_liquid_at_end": in_liquid_at_end,
             "in_water": in_water[::10]}
 
 
