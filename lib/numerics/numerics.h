@@ -212,7 +212,7 @@ static inline size_t first_above(neighbour_rows rows, size_t i)
  * block a thread: a block first gives each of its rows, in ascending order,
  * the terms of its neighbours below the block (pair_block_first), then takes
  * each pair inside it or above it once, from its lower row, adding the term
- * to the upper row only when that row is in the block (below pair_block_end;
+ * to the upper row only when that row is in the block (below the block's end;
  * the upper block takes it in its first pass). Every row still sums its
  * terms in ascending order of neighbour: the same bits for any number of
  * blocks, and one block is the one-thread loop. Block b of count: */
@@ -220,7 +220,19 @@ static inline size_t pair_block_first(size_t count, size_t blocks, size_t b)
 {
     return count * b / blocks;
 }
-#define pair_block_end(count, blocks, b) pair_block_first(count, blocks, (b) + 1)
+
+/* PAIR_BLOCKS(threads, count, first, end, body): body once for each block of
+ * rows [first, end) of count, one block a thread of team_size(threads). */
+#define PAIR_BLOCKS(threads, count, first, end, ...)                               \
+    do {                                                                         \
+        const size_t blocks_ = (size_t)team_size(threads);                       \
+        PARALLEL_FOR(threads, schedule(static, 1) if (blocks_ > 1),              \
+        for (size_t block_ = 0; block_ < blocks_; block_++) {                    \
+            const size_t first = pair_block_first(count, blocks_, block_);       \
+            const size_t end = pair_block_first(count, blocks_, block_ + 1);     \
+            __VA_ARGS__                                                          \
+        });                                                                      \
+    } while (0)
 
 /* The end of row i's entries below limit (a block's end): the entries from
  * there on belong to rows another block sums. */

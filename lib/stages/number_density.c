@@ -21,12 +21,8 @@ void number_density_compute(mps2p_solver *s, double *out)
     const double re = s->params.re_density * s->l0;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *position = s->state.position;
-    const size_t blocks = (size_t)team_size(s->params.threads);
     /* each pair's weight once, added to both rows (first_above, pair_block_first) */
-    PARALLEL_FOR(s->params.threads, schedule(static, 1) if (blocks > 1),
-    for (size_t b = 0; b < blocks; b++) {
-        const size_t first = pair_block_first(s->count, blocks, b);
-        const size_t end = pair_block_end(s->count, blocks, b);
+    PAIR_BLOCKS(s->params.threads, s->count, first, end,
         for (size_t i = first; i < end; i++) {
             double n = 0.0;
             for (size_t k = nl.start[i]; k < nl.start[i + 1] && nl.index[k] < first; k++)
@@ -47,7 +43,7 @@ void number_density_compute(mps2p_solver *s, double *out)
                 n += pair_weight(position, i, nl.index[k], re);
             out[i] = n;
         }
-    });
+    );
 }
 
 int number_density_start(mps2p_solver *s, double dt)

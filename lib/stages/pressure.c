@@ -15,6 +15,27 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Room for entries (column and value) in arrays holding capacity, a
+ * sixteenth to spare: the pattern grows by a few entries a step at most, and
+ * the matrix is the solver's second-largest array. 0 when out of memory (the
+ * arrays and capacity stay valid). */
+static int grow_entries(int **column, double **value, size_t *capacity, size_t entries)
+{
+    if (entries <= *capacity)
+        return 1;
+    size_t grown_capacity = entries + entries / 16 + 16;
+    int *grown_column = realloc(*column, grown_capacity * sizeof *grown_column);
+    if (grown_column)
+        *column = grown_column;
+    double *grown_value = realloc(*value, grown_capacity * sizeof *grown_value);
+    if (grown_value)
+        *value = grown_value;
+    if (!grown_column || !grown_value)
+        return 0;
+    *capacity = grown_capacity;
+    return 1;
+}
+
 static int grow_matrix(sparse_matrix *m, int rows, size_t entries)
 {
     if ((size_t)rows + 1 > m->row_capacity) {
@@ -24,21 +45,8 @@ static int grow_matrix(sparse_matrix *m, int rows, size_t entries)
         m->row_start = grown;
         m->row_capacity = (size_t)rows + 1;
     }
-    if (entries > m->capacity) {
-        /* a sixteenth to spare: the pattern grows by a few entries a step
-         * at most, and the matrix is the solver's second-largest array */
-        size_t capacity = entries + entries / 16 + 16;
-        int *column = realloc(m->column, capacity * sizeof *column);
-        if (column)
-            m->column = column;
-        double *value = realloc(m->value, capacity * sizeof *value);
-        if (value)
-            m->value = value;
-        if (!column || !value)
-            return MPS2P_ERR_NOMEM;
-        m->capacity = capacity;
-    }
-    return MPS2P_OK;
+    return grow_entries(&m->column, &m->value, &m->capacity, entries) ? MPS2P_OK
+                                                                       : MPS2P_ERR_NOMEM;
 }
 
 /* Participants: the system's mask when it has one, else the fluid in the
@@ -196,23 +204,6 @@ typedef struct row_run {
     size_t capacity, entries;
 } row_run;
 
-static int reserve_run(row_run *run, size_t entries)
-{
-    if (entries <= run->capacity)
-        return 1;
-    size_t capacity = entries + entries / 16 + 16;
-    int *column = realloc(run->column, capacity * sizeof *column);
-    if (column)
-        run->column = column;
-    double *value = realloc(run->value, capacity * sizeof *value);
-    if (value)
-        run->value = value;
-    if (!column || !value)
-        return 0;
-    run->capacity = capacity;
-    return 1;
-}
-
 /* The rows of particles [first, end), each filled where the last one ended,
  * room made from the bound of its neighbour list (about 1.3 times its
  * entries): no counting pass. row_start gets the offsets within the run. */
@@ -227,7 +218,7 @@ static int fill_run(mps2p_solver *s, const ppe_system *sys, double dt, size_t fi
         if (row < 0)
             continue;
         size_t bound = next + (nl->start[i + 1] - nl->start[i]) + 1;
-        if (bound > (size_t)INT_MAX || !reserve_run(run, bound))
+        if (bound > (size_t)INT_MAX || !grow_entries(&run->column, &run->value, &run->capacity, bound))
             return MPS2P_ERR_NOMEM;
         m->row_start[row] = (int)next;
         next = fill_row(s, sys, dt, i, row, run->column, run->value, next);

@@ -38,11 +38,7 @@ static void laplacians_pairwise(mps2p_solver *s, const double *velocity, double 
     const neighbour_rows rows = {nl->start, nl->index};
     const double *position = s->state.position;
     const double factor = 2.0 * 2 / (s->lambda * s->n0_laplacian);
-    const size_t blocks = (size_t)team_size(s->params.threads);
-    PARALLEL_FOR(s->params.threads, schedule(static, 1) if (blocks > 1),
-    for (size_t b = 0; b < blocks; b++) {
-        const size_t first = pair_block_first(s->count, blocks, b);
-        const size_t end = pair_block_end(s->count, blocks, b);
+    PAIR_BLOCKS(s->params.threads, s->count, first, end,
         for (size_t i = first; i < end; i++) {
             double *a = &acceleration[2 * i];
             a[0] = a[1] = 0.0;
@@ -89,7 +85,7 @@ static void laplacians_pairwise(mps2p_solver *s, const double *velocity, double 
                 a[1] *= s->viscosity[i];
             }
         }
-    });
+    );
 }
 
 int viscosity_apply(mps2p_solver *s, double dt)
