@@ -181,6 +181,8 @@ def test_examples_are_listed_and_run_by_name(tmp_path):
     assert unknown.stderr.startswith("mps2p: no_such_scene: neither a scene file nor an "
                                      "example scene (examples: ")
     assert "dam_break" in unknown.stderr and "mps2p examples" in unknown.stderr
+    near = mps2p("run", "dambreak", cwd=tmp_path)
+    assert near.returncode == 2 and "; did you mean dam_break?" in near.stderr, near.stderr
     absent = mps2p("run", "no_such_scene.toml", cwd=tmp_path)
     assert absent.returncode == 2 and absent.stderr.startswith(
         "mps2p: no_such_scene.toml: no such file, and not an example scene"), absent.stderr

@@ -117,6 +117,14 @@ def test_a_fluid_box_outside_every_tank_is_warned_of(tmp_path, box, warned):
         assert outside[0].startswith(path + ": fluid_box[0]: ")
 
 
+def test_a_parameter_that_is_not_finite(tmp_path):
+    """nan is a float to TOML: the message says a finite number is wanted."""
+    text = GOOD.replace("[[tank]]", "[parameters]\ncfl = nan\n[[tank]]", 1)
+    with pytest.raises(mps2p.SceneFileError) as caught:
+        scenefile.load(write(tmp_path, text))
+    assert "parameters.cfl: must be a finite number, got nan" in str(caught.value)
+
+
 def test_every_problem_at_once(tmp_path):
     """A file with three mistakes in its structure names all three, one line
     each, and not yet its value's mistake (end_time); once the structure is

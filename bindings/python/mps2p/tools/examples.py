@@ -1,5 +1,6 @@
 """The example scenes shipped inside the package (mps2p/tools/scenes/*.toml):
 `mps2p examples` lists them and `mps2p run NAME` runs one by name."""
+import difflib
 import os
 
 SCENES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "scenes")
@@ -32,8 +33,11 @@ def resolve_scene(argument):
     except KeyError:
         what = ("no such file, and not an example scene" if argument.endswith(".toml")
                 else "neither a scene file nor an example scene")
-        raise KeyError("%s: %s (examples: %s; 'mps2p examples' describes them)"
-                       % (argument, what, ", ".join(example_names()))) from None
+        stem = argument[:-5] if argument.endswith(".toml") else argument
+        close = difflib.get_close_matches(stem, example_names(), n=1, cutoff=0.75)
+        hint = "; did you mean %s?" % close[0] if close else ""
+        raise KeyError("%s: %s%s (examples: %s; 'mps2p examples' describes them)"
+                       % (argument, what, hint, ", ".join(example_names()))) from None
 
 
 __all__ = ["example_names", "example_path", "resolve_scene", "SCENES"]

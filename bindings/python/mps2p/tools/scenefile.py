@@ -332,7 +332,7 @@ def check(path, data):
                 fail("%s.%s" % (section, key), "must be a string, got %r%s" % (
                     value, _elsewhere(key, "parameter")))
             if not want_str and not _is_number(value):
-                fail("%s.%s" % (section, key), "must be a number, got %r%s" % (
+                fail("%s.%s" % (section, key), "must be a finite number, got %r%s" % (
                     value, _elsewhere(key, "option")))
     for section, (fields, required) in SCHEMA.items():
         if section not in data:
