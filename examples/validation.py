@@ -7,6 +7,7 @@ Koshizuka and Oka's (scheme koshizuka1996).
     python3 examples/validation.py still|dam|shift|buchner|turning|stream|all [--quick] [--fine]
         [--pysph-python PY] [--out DIR]
     python3 examples/validation.py scatter [--settings JSON] [--quick] [--out DIR]
+    python3 examples/validation.py buchner_air [--quick] [--out DIR]
     python3 examples/validation.py tables [--out DIR]   # the JSONs as Markdown
 
 Each case writes CSV series, a JSON summary and PNG pictures into DIR
@@ -15,7 +16,9 @@ Buchner at H/l0 = 40 only); --fine adds Buchner at H/l0 = 160; --pysph-python ad
 PySPH's own Buchner example (its EDAC scheme, H/dx = 40) to the impact figure and table.
 scatter runs the violent cases again perturbed in cfl or dt (the default
 scheme, or it with --settings changed) and adds their statistics' mean,
-standard deviation and range to scatter.json. Reference data: data/ (cited in
+standard deviation and range to scatter.json. buchner_air runs Buchner's case
+at H/l0 = 40 with air around the column (the paper's improved two-phase model)
+and without, over the scatter's cfl values. Reference data: data/ (cited in
 data/README.md).
 """
 import argparse
@@ -361,33 +364,47 @@ def buchner_reference():
     return {k: np.array(sorted(v)) for k, v in out.items()}
 
 
-def impact(scheme, per_height, H=0.6, end_star=7.0, every_star=0.01, settings=None):
+# Air around Buchner's column: the paper's improved two-phase model as its
+# scene (examples/scenes/ikari2003_dam_break_air.toml) sets it, up to 2H.
+AIR_SETTINGS = {"pressure_solver": "cg", "cg_preconditioner": "two_level",
+                "two_phase_model": "two_step_improved", "interface_reaction": "drift",
+                "gas_cg_tolerance": 1e-4}
+
+
+def impact(scheme, per_height, H=0.6, end_star=7.0, every_star=0.01, settings=None, air=False):
     """Buchner's dam break: column H high, 2H wide, tank 5.366 H long (to a
     whole number of spacings: 5.35 H at H/l0 = 40, 5.3625 H at 80). The
     sensors sit on the right wall at y = 0.16 m and 0.584 m; the probes read
-    them half a spacing inside the water, as the probes average."""
+    them half a spacing inside the water, as the probes average. With air,
+    the tank holds air up to 2H around the column (AIR_SETTINGS)."""
     l0 = H / per_height
     # 5.366 H, to a whole number of spacings (tanks are built on the lattice)
     length = math.floor(5.366 * per_height) * l0
     with mps2p.Scene(l0, scheme=scheme) as scene:
-        scene.set(**(settings or {}))
+        scene.set(**dict(AIR_SETTINGS if air else {}, **(settings or {})))
         water = scene.add_fluid("water", RHO, 1e-6)
         scene.add_fluid_box(water, 0.0, 0.0, 2 * H + 1e-9, H + 1e-9)
+        if air:
+            gas = scene.add_fluid("air", 1.2, 1.5e-5)
+            scene.add_fluid_box(gas, 2 * H + 1e-9, 0.0, length + 1e-9, 2 * H + 1e-9)
+            scene.add_fluid_box(gas, 0.0, H + 1e-9, 2 * H + 1e-9, 2 * H + 1e-9)
         scene.add_tank(0.0, 0.0, length + 1e-9, 3 * H + 1e-9, open_top=True)
         solver = mps2p.Solver(scene)
     scale_t, scale_p = math.sqrt(H / G), RHO * G * H
     points = [[length - 0.5 * l0, 0.16], [length - 0.5 * l0, 0.584]]
-    rows = []
+    rows, stopped = [], None
     for k in range(1, int(round(end_star / every_star)) + 1):
         try:
             solver.advance_to(k * every_star * scale_t)
         except mps2p.Error as e:
             print("  %s: %s" % (scheme, e))
+            stopped = str(e)
             break
         p = solver.probe(points)[0] / scale_p
         rows.append((k * every_star, p[0], p[1]))
     summary = impact_summary(scheme, per_height, np.array(rows))
-    summary.update({"particles": solver.particle_count, "steps": solver.step_count})
+    summary.update({"particles": solver.particle_count, "steps": solver.step_count,
+                    "end_t": rows[-1][0] if rows else 0.0, "stopped": stopped})
     return rows, summary
 
 
@@ -513,6 +530,59 @@ def run_buchner(out, quick, fine=False, pysph_python=None):
         print("  " + json.dumps(s))
     plot_buchner(out, series)
     return summaries
+
+
+def run_buchner_air(out, quick):
+    """Buchner's case at H/l0 = 40 with air around the column and without, at
+    the scatter's cfl values (four; two with --quick): does the air the
+    experiment had move the impact, the plateau or the noise?"""
+    summaries, series = [], {}
+    for cfl in SCATTER_CFL[:2 if quick else 4]:
+        for air in (False, True):
+            label = "%s, cfl %g" % ("with air" if air else "water only", cfl)
+            print("impact pressure, H/l0 = 40, %s" % label)
+            rows, s = impact("corrected", 40, settings={"cfl": cfl}, air=air)
+            write_csv(os.path.join(out, "buchner_%s_cfl%g.csv" % ("air" if air else "water", cfl)),
+                      ["t_star", "p1_star", "p2_star"], rows)
+            series[(label, 40)] = np.array(rows)
+            s.update({"air": air, "cfl": cfl})
+            summaries.append(s)
+            print("  " + json.dumps(s))
+    plot_buchner_air(out, series)
+    return summaries
+
+
+def plot_buchner_air(out, series):
+    """buchner_air.png: P1 of the runs with air and without, each run thin,
+    each set's 0.1 t* moving mean averaged over its runs bold, against the
+    experiment's."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    ref = buchner_reference()["P1"]
+    fig, ax = plt.subplots(figsize=(10, 4.5))
+    grid = np.arange(1, 701) * 0.01
+    for air, colour in ((False, "tab:blue"), (True, "tab:orange")):
+        means = []
+        for (label, _), arr in series.items():
+            if label.startswith("with air") != air:
+                continue
+            ax.plot(arr[:, 0], arr[:, 1], lw=0.3, color=colour, alpha=0.35)
+            mean = np.convolve(arr[:, 1], np.ones(10) / 10, mode="same")
+            means.append(np.interp(grid, arr[:, 0], mean, right=np.nan))
+        if means:
+            ax.plot(grid, np.nanmean(np.array(means), axis=0), lw=2, color=colour,
+                    label="%s: %d runs over cfl (thin), their 0.1 t* moving mean (bold)"
+                    % ("with air" if air else "water only", len(means)))
+    ax.plot(ref[:, 0], ref[:, 1], "ko", ms=3, label="Buchner (2002)")
+    ax.set_xlim(1.5, 7.0)
+    ax.set_ylim(-0.1, 1.6)
+    ax.set_xlabel("t sqrt(g / H)")
+    ax.set_ylabel("P1: p / (rho g H)")
+    ax.set_title("Buchner's case at H/l0 = 40, with air around the column and without")
+    ax.legend(fontsize=8, loc="upper left")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "buchner_air.png"), dpi=110)
 
 
 def plot_buchner(out, series):
@@ -836,10 +906,12 @@ def tables(out):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("case", choices=("still", "dam", "shift", "buchner", "turning", "stream", "all",
-                                         "scatter", "tables"),
+                                         "scatter", "buchner_air", "tables"),
                         help="a case, all six, or scatter (the violent cases' statistics "
-                             "over perturbed runs; not in all), or tables: the JSON summaries "
-                             "in --out as Markdown (the shift case's table is written by hand)")
+                             "over perturbed runs; not in all), buchner_air (Buchner's case "
+                             "with air and without; not in all), or tables: the JSON "
+                             "summaries in --out as Markdown (the shift case's table is "
+                             "written by hand)")
     parser.add_argument("--quick", action="store_true", help="shorter runs (see the module help)")
     parser.add_argument("--fine", action="store_true",
                         help="buchner: also H/l0 = 160 (about 45 minutes more)")
@@ -860,7 +932,7 @@ def main(argv=None):
              else (args.case,))
     runners = {"still": run_still, "dam": run_dam, "shift": run_shift,
                "buchner": lambda out, quick: run_buchner(out, quick, args.fine, args.pysph_python),
-               "turning": run_turning, "stream": run_stream}
+               "turning": run_turning, "stream": run_stream, "buchner_air": run_buchner_air}
     if args.case == "scatter":
         summary = run_scatter(args.out, args.quick, json.loads(args.settings))
         path = os.path.join(args.out, "scatter.json")

@@ -73,3 +73,17 @@ def test_scatter_row_reads_the_worst_run_of_each_statistic():
     assert cells == ['{"shifting": 0}', "17.0 +- 1.0 (18.0) %", "3.0 +- 1.0 (4.0) %",
                      "0.05 +- 0.05 (0.10) %", "2.80 +- 0.10 (2.90)", "0.25 +- 0.05 (0.20)",
                      "0.150 +- 0.050 (0.200)", "0.80 +- 0.10 (0.70)"]
+
+
+def test_buchner_with_air_fills_the_tank_around_the_column():
+    """`validation.py buchner_air`'s scene: air up to 2H around the column
+    (H/l0 = 10, a few steps): the particles add up, and the run goes on."""
+    _, water = validation.impact("corrected", 10, end_star=0.2)
+    _, with_air = validation.impact("corrected", 10, end_star=0.2, air=True)
+    # the column is 2H x H in a tank 5.3 H long at this spacing; the air fills
+    # 5.3 H x 2H less the column: 4.3 times the column's particles
+    added = with_air["particles"] - water["particles"]
+    column = 20 * 10
+    assert 4.2 * column < added < 4.4 * column
+    assert water["stopped"] is None and with_air["stopped"] is None
+    assert with_air["end_t"] == pytest.approx(0.2)
