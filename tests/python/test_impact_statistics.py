@@ -1,6 +1,7 @@
 """The impact-pressure statistics of docs/validation.md ("Impact pressure
 against Buchner"), which read libmps2p's and PySPH's series alike:
-examples/validation.py's impact_summary on series whose answers are known."""
+examples/validation.py's impact_summary on series whose answers are known; and
+its Buchner scene with air (`validation.py buchner_air`), built and run briefly."""
 import importlib.util
 import os
 
