@@ -8,6 +8,7 @@ Koshizuka and Oka's (scheme koshizuka1996).
         [--pysph-python PY] [--out DIR]
     python3 examples/validation.py scatter [--settings JSON] [--quick] [--out DIR]
     python3 examples/validation.py buchner_air [--quick] [--out DIR]
+    python3 examples/validation.py gate [--quick] [--out DIR]
     python3 examples/validation.py tables [--out DIR]   # the JSONs as Markdown
 
 Each case writes CSV series, a JSON summary and PNG pictures into DIR
@@ -18,7 +19,8 @@ scatter runs the violent cases again perturbed in cfl or dt (the default
 scheme, or it with --settings changed) and adds their statistics' mean,
 standard deviation and range to scatter.json. buchner_air runs Buchner's case
 at H/l0 = 40 with air around the column (the paper's improved two-phase model)
-and without, over the scatter's cfl values. Reference data: data/ (cited in
+and without, over the scatter's cfl values; gate releases the dam break's column
+by a gate lifted at several speeds. Reference data: data/ (cited in
 data/README.md).
 """
 import argparse
@@ -339,6 +341,46 @@ def front_offset(scheme, l0, a=0.15, end_T=9.5, every_T=0.02):
         summary["speed_%g_%g" % (lo, hi)] = [float(np.polyfit(T[sim], Z[sim], 1)[0]),
                                              float(np.polyfit(mm[exp, 1], mm[exp, 2], 1)[0])]
     return summary
+
+
+def gate_release(speed, l0=0.01, a=0.15, thickness=1, end_T=2.5, every_T=0.02):
+    """The column released by a gate lifted at `speed` (m/s; 0: no gate, an
+    instant release), a body `thickness` spacings thick against the column's
+    right face: its front's relative error at Martin & Moyce's points with
+    T <= end_T."""
+    with mps2p.Scene(l0) as scene:
+        water = scene.add_fluid("water", RHO, 1e-6)
+        scene.add_fluid_box(water, 0.0, 0.0, a + 1e-9, 2 * a + 1e-9)
+        scene.add_tank(0.0, 0.0, 0.6 + 1e-9, 0.7 + 1e-9, open_top=True)
+        if speed > 0:
+            gate = scene.add_body_box("gate", a + 1e-9, 0.0, a + thickness * l0 + 1e-9,
+                                      2 * a + 0.05 + 1e-9)
+        scene.set_domain(-0.2, -0.2, 0.8, 3.0)  # room for the gate above the tank
+        solver = mps2p.Solver(scene)
+    if speed > 0:
+        solver.set_body_motion(gate, (0.0, speed))
+    scale = math.sqrt(a / (2 * G))
+    T = np.arange(1, int(round(end_T / every_T)) + 1) * every_T
+    Z = []
+    for t in T:
+        solver.advance_to(t * scale)
+        if speed > 0 and solver.time * speed > 2 * a + 0.1:  # clear of the water: stop it
+            solver.set_body_motion(gate, (0.0, 0.0))
+        Z.append(solver.front(water, below=0.02) / a)
+    mm = martin_moyce()
+    chosen = mm[:, 1] <= end_T
+    errors = np.interp(mm[chosen, 1], T, np.array(Z)) / mm[chosen, 2] - 1
+    return {"speed": speed, "l0": l0, "thickness": thickness, "T": mm[chosen, 1].tolist(),
+            "errors": errors.tolist(), "max": float(np.abs(errors).max())}
+
+
+def run_gate(out, quick):
+    summaries = []
+    for speed in (0.0, 0.3, 1.5, 3.0, 6.0) if not quick else (0.0, 3.0):
+        s = gate_release(speed)
+        print("gate lifted at %g m/s: %s" % (speed, json.dumps(s)))
+        summaries.append(s)
+    return summaries
 
 
 def run_shift(out, quick):
@@ -909,10 +951,11 @@ def tables(out):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("case", choices=("still", "dam", "shift", "buchner", "turning", "stream", "all",
-                                         "scatter", "buchner_air", "tables"),
+                                         "scatter", "buchner_air", "gate", "tables"),
                         help="a case, all six, or scatter (the violent cases' statistics "
                              "over perturbed runs; not in all), buchner_air (Buchner's case "
-                             "with air and without; not in all), or tables: the JSON "
+                             "with air and without; not in all), gate (the dam break released by a lifted "
+                             "gate; not in all), or tables: the JSON "
                              "summaries in --out as Markdown (the shift and buchner_air "
                              "cases' tables are written by hand)")
     parser.add_argument("--quick", action="store_true", help="shorter runs (see the module help)")
@@ -935,7 +978,8 @@ def main(argv=None):
              else (args.case,))
     runners = {"still": run_still, "dam": run_dam, "shift": run_shift,
                "buchner": lambda out, quick: run_buchner(out, quick, args.fine, args.pysph_python),
-               "turning": run_turning, "stream": run_stream, "buchner_air": run_buchner_air}
+               "turning": run_turning, "stream": run_stream, "buchner_air": run_buchner_air,
+               "gate": run_gate}
     if args.case == "scatter":
         summary = run_scatter(args.out, args.quick, json.loads(args.settings))
         path = os.path.join(args.out, "scatter.json")
