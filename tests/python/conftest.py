@@ -12,3 +12,12 @@ SCENES = os.path.join(ROOT, "examples", "scenes")
 if importlib.util.find_spec("mps2p") is None:
     sys.path.insert(0, os.path.join(ROOT, "bindings", "python"))
 PACKAGE_DIR = os.path.dirname(os.path.dirname(importlib.util.find_spec("mps2p").origin))
+
+
+def load_validation():
+    """examples/validation.py as a module (it is a script, not a package)."""
+    spec = importlib.util.spec_from_file_location(
+        "validation", os.path.join(ROOT, "examples", "validation.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module

@@ -1,14 +1,9 @@
 """examples/validation.py's gate case (docs/validation.md, "A gate in the
 scene does not make that lag"): the gate holds the column until it is lifted."""
-import importlib.util
-import os
 
-from conftest import ROOT
+from conftest import load_validation
 
-spec = importlib.util.spec_from_file_location(
-    "validation", os.path.join(ROOT, "examples", "validation.py"))
-validation = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(validation)
+validation = load_validation()
 
 
 def test_a_gate_barely_lifted_holds_the_column():

@@ -17,7 +17,7 @@ import pytest
 
 from mps2p.tools.stability import check_run, gas_in_liquid_peak_and_last
 
-from conftest import SCENES
+from conftest import SCENES, load_validation
 
 ACCEPTANCE = os.environ.get("MPS2P_HARD_CASES") == "1"
 acceptance = pytest.mark.skipif(not ACCEPTANCE, reason="issue 9 acceptance run: "
@@ -126,11 +126,5 @@ def test_buchner_with_air_runs_through_the_plunge():
     """Buchner's dam break (H = 0.6 m) with air around the column, the case of
     `examples/validation.py buchner_air` at its first cfl, to t* = 7 (about
     two minutes)."""
-    import importlib.util
-    from conftest import ROOT
-    spec = importlib.util.spec_from_file_location(
-        "validation", os.path.join(ROOT, "examples", "validation.py"))
-    validation = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(validation)
-    _, summary = validation.impact("corrected", 40, settings={"cfl": 0.2}, air=True)
+    _, summary = load_validation().impact("corrected", 40, settings={"cfl": 0.2}, air=True)
     assert summary["stopped"] is None, summary["stopped"]

@@ -2,18 +2,13 @@
 against Buchner"), which read libmps2p's and PySPH's series alike:
 examples/validation.py's impact_summary on series whose answers are known; and
 its Buchner scene with air (`validation.py buchner_air`), built and run briefly."""
-import importlib.util
-import os
 
 import numpy as np
 import pytest
 
-from conftest import ROOT
+from conftest import load_validation
 
-spec = importlib.util.spec_from_file_location(
-    "validation", os.path.join(ROOT, "examples", "validation.py"))
-validation = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(validation)
+validation = load_validation()
 
 
 def experiment_sampled(every=0.01):

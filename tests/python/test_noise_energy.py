@@ -1,18 +1,13 @@
 """The dam break's particle-scale kinetic energy (docs/validation.md, "Dam
 break against Martin & Moyce"): examples/validation.py's noise_energy on
 made-up particles, where the answer is known."""
-import importlib.util
-import os
 
 import numpy as np
 import pytest
 
-from conftest import ROOT
+from conftest import load_validation
 
-spec = importlib.util.spec_from_file_location(
-    "validation", os.path.join(ROOT, "examples", "validation.py"))
-validation = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(validation)
+validation = load_validation()
 
 L0 = 0.01
 

@@ -2,18 +2,13 @@
 turning up a wall"), the rung under Buchner's impact pressure: the
 free-streamline reference itself, and the default scheme's known deficit
 (a slab 1.5 m long here; 2 m in examples/validation.py)."""
-import importlib.util
 import math
-import os
 
 import pytest
 
-from conftest import ROOT
+from conftest import load_validation
 
-spec = importlib.util.spec_from_file_location(
-    "validation", os.path.join(ROOT, "examples", "validation.py"))
-validation = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(validation)
+validation = load_validation()
 
 
 def test_free_streamline_reference():
