@@ -140,6 +140,26 @@ static void test_last_error_cleared_on_success(void)
     CHECK(mps2p_solver_load_checkpoint("/nonexistent/x.chk", &loaded) == MPS2P_ERR_IO, "load");
     MUST(mps2p_solver_advance_to(solver, 0.01, NULL, NULL));
     CHECK(mps2p_last_error()[0] == '\0', "after advance_to: \"%s\"", mps2p_last_error());
+    /* saving, loading and a results file list the parameters: their listing
+     * must not leave its end-of-list failure behind */
+    char directory[] = "/tmp/mps2p_last_error_XXXXXX", path[64];
+    CHECK(mkdtemp(directory) != NULL, "mkdtemp");
+    snprintf(path, sizeof path, "%s/run.chk", directory);
+    MUST(mps2p_solver_save_checkpoint(solver, path));
+    CHECK(mps2p_last_error()[0] == '\0', "after save_checkpoint: \"%s\"", mps2p_last_error());
+    MUST(mps2p_solver_load_checkpoint(path, &loaded));
+    CHECK(mps2p_last_error()[0] == '\0', "after load_checkpoint: \"%s\"", mps2p_last_error());
+    mps2p_solver_destroy(loaded);
+    unlink(path);
+    snprintf(path, sizeof path, "%s/run.h5", directory);
+    mps2p_results *results;
+    MUST(mps2p_results_create(path, solver, NULL, &results));
+    CHECK(mps2p_last_error()[0] == '\0', "after results_create: \"%s\"", mps2p_last_error());
+    MUST(mps2p_results_close(results));
+    unlink(path);
+    snprintf(path, sizeof path, "%s/run.xdmf", directory);
+    unlink(path);
+    rmdir(directory);
     CHECK(mps2p_scene_fluid_count(scene, NULL) == MPS2P_ERR_NULL, "fluid_count");
     mps2p_scene_destroy(scene);
     CHECK(mps2p_last_error()[0] != '\0', "destroy cleared the message");

@@ -456,6 +456,11 @@ int params_get_option(const params *p, const char *key, const char **value)
     return MPS2P_OK;
 }
 
+const char *params_key(size_t index)
+{
+    return index < TABLE_SIZE ? table[index].key : NULL;
+}
+
 const char *params_option_key(size_t index)
 {
     if (index < OPTION_COUNT)

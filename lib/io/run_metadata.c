@@ -16,7 +16,7 @@ int h5_write_parameters(h5_context *ctx, hid_t file, const mps2p_solver *s)
     }
     int status = 0;
     const char *key;
-    for (size_t i = 0; status == 0 && mps2p_param_info(i, &key, NULL, NULL) == MPS2P_OK; i++) {
+    for (size_t i = 0; status == 0 && (key = params_key(i)) != NULL; i++) {
         double value = 0.0;
         params_get(&s->params, key, &value);
         status = h5_write_attribute(ctx, group, key, H5T_NATIVE_DOUBLE, 1, &value);
@@ -77,7 +77,7 @@ int h5_read_parameters(h5_context *ctx, hid_t file, params *out)
     char message[ERROR_MESSAGE_SIZE];
     int status = 0;
     const char *key;
-    for (size_t i = 0; status == 0 && mps2p_param_info(i, &key, NULL, NULL) == MPS2P_OK; i++) {
+    for (size_t i = 0; status == 0 && (key = params_key(i)) != NULL; i++) {
         double value = 0.0;
         /* threads changes no result bit, memory_limit only what is refused,
          * gas_buffer_rate nothing without the layer (off in older files, below);
