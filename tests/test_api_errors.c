@@ -168,6 +168,29 @@ static void test_last_error_cleared_on_success(void)
     EXPECT(mps2p_solver_load_checkpoint("", &loaded), MPS2P_ERR_INVALID, "path is empty");
 }
 
+/* A spacing or gravity at the ends of a double's range gives derived
+ * constants (lambda, n0, dt_max) that are nan or 0: creation refuses it
+ * rather than make a solver whose every step fails and whose checkpoint its
+ * loader refuses. */
+static void test_spacing_beyond_a_double(void)
+{
+    const double spacings[] = {1e300, 1e-300, 1e100};
+    for (size_t k = 0; k < sizeof spacings / sizeof spacings[0]; k++) {
+        double l0 = spacings[k];
+        mps2p_scene *scene;
+        mps2p_solver *solver = NULL;
+        int water;
+        MUST(mps2p_scene_create(l0, &scene));
+        MUST(mps2p_scene_add_fluid(scene, "water", 1000.0, 1e-6, &water));
+        MUST(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.0, 5 * l0, 5 * l0));
+        if (l0 == 1e100) /* a finite lambda, but dt_max underflows */
+            MUST(mps2p_scene_set_param(scene, "gravity_y", -1e300));
+        EXPECT(mps2p_solver_create(scene, &solver), MPS2P_ERR_INVALID, "not a finite positive");
+        CHECK(solver == NULL, "a refused creation returned a solver");
+        mps2p_scene_destroy(scene);
+    }
+}
+
 int main(void)
 {
     mps2p_scene *scene = NULL;
@@ -395,5 +418,6 @@ int main(void)
     test_tank_counts_its_walls();
     test_count_checked_before_reading();
     test_last_error_cleared_on_success();
+    test_spacing_beyond_a_double();
     return check_summary("test_api_errors");
 }

@@ -265,6 +265,19 @@ static int build(mps2p_solver *s, const mps2p_scene *scene)
                     "the domain [%g, %g] x [%g, %g] is too large: its width or height is not "
                     "a finite number", s->domain[0], s->domain[2], s->domain[1], s->domain[3]);
     derive_bounds(s);
+    /* an l0 or gravity at the ends of a double's range (l0 = 1e300: lambda
+     * overflows to nan; 1e-300: it underflows to 0) gives constants no step
+     * can use, and a checkpoint its loader refuses */
+    const struct { const char *name; double value; } derived[] = {
+        {"n0 (number density)", s->n0_density}, {"n0 (Laplacian)", s->n0_laplacian},
+        {"lambda", s->lambda}, {"dt_max", s->dt_max}, {"pressure_limit", s->pressure_limit}};
+    for (size_t k = 0; k < sizeof derived / sizeof derived[0]; k++)
+        if (!(isfinite(derived[k].value) && derived[k].value > 0.0))
+            return fail(NULL, MPS2P_ERR_INVALID,
+                        "l0 = %g m and gravity (%g, %g) m/s^2 give %s = %g, not a finite "
+                        "positive number: the spacing or gravity is beyond what the solver "
+                        "can compute with", s->l0, s->params.gravity[0], s->params.gravity[1],
+                        derived[k].name, derived[k].value);
 
     status = coupling_create(s, scene);
     if (status == MPS2P_OK)
