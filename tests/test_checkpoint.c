@@ -402,6 +402,43 @@ static void not_regular_files_refused(const char *dir)
     expect_refused(dir, "not a regular file (a directory)");
 }
 
+/* Saving writes a temporary file and renames it over the path: over a FIFO
+ * or a device that put a regular file in its place (as root, saving to
+ * /dev/null replaced the system's /dev/null). Such paths are refused; a
+ * symbolic link keeps being a link, its target replaced. */
+static void saving_over_what_is_not_a_file(const char *dir, const mps2p_solver *solver)
+{
+    char fifo[256], link[256], target[256];
+    struct stat seen;
+    snprintf(fifo, sizeof fifo, "%s/save-fifo.chk", dir);
+    CHECK(mkfifo(fifo, 0600) == 0, "mkfifo %s", fifo);
+    int status = mps2p_solver_save_checkpoint(solver, fifo);
+    CHECK(status == MPS2P_ERR_IO && strstr(mps2p_last_error(), "not a regular file (a FIFO)"),
+          "saving over a FIFO: %s, %s", mps2p_status_string(status), mps2p_last_error());
+    CHECK(lstat(fifo, &seen) == 0 && S_ISFIFO(seen.st_mode), "the FIFO was replaced");
+    remove(fifo);
+    status = mps2p_solver_save_checkpoint(solver, dir);
+    CHECK(status == MPS2P_ERR_IO && strstr(mps2p_last_error(), "a directory"),
+          "saving over a directory: %s, %s", mps2p_status_string(status), mps2p_last_error());
+    snprintf(target, sizeof target, "%s/save-target.chk", dir);
+    snprintf(link, sizeof link, "%s/save-link.chk", dir);
+    FILE *f = fopen(target, "w");
+    CHECK(f && fputs("old", f) >= 0 && fclose(f) == 0, "cannot write %s", target);
+    CHECK(symlink(target, link) == 0, "symlink %s", link);
+    MUST(mps2p_solver_save_checkpoint(solver, link));
+    CHECK(lstat(link, &seen) == 0 && S_ISLNK(seen.st_mode), "the link was replaced by a file");
+    mps2p_solver *loaded = NULL;
+    MUST(mps2p_solver_load_checkpoint(target, &loaded));
+    mps2p_solver_destroy(loaded);
+    remove(target); /* the link now dangles: refused, nothing created */
+    status = mps2p_solver_save_checkpoint(solver, link);
+    CHECK(status == MPS2P_ERR_IO && strstr(mps2p_last_error(), "symbolic link"),
+          "saving through a dangling link: %s, %s", mps2p_status_string(status),
+          mps2p_last_error());
+    CHECK(lstat(target, &seen) != 0, "saving through a dangling link created its target");
+    remove(link);
+}
+
 static herr_t copy_attribute(hid_t from, const char *name, const H5A_info_t *info, void *to)
 {
     (void)info;
@@ -693,6 +730,7 @@ int main(void)
     CHECK(status == MPS2P_ERR_IO && strstr(mps2p_last_error(), other),
           "saving into a missing directory: %s, %s", mps2p_status_string(status),
           mps2p_last_error());
+    saving_over_what_is_not_a_file(dir, solver);
     mps2p_solver_destroy(solver);
 
     const char *names[] = {"run.chk", "text.chk", "results.h5", "results.xdmf", "newer.chk",

@@ -244,9 +244,15 @@ int mps2p_solver_save_checkpoint(const mps2p_solver *s, const char *path)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_save_checkpoint: path is NULL");
     if (!path[0])
         return fail(NULL, MPS2P_ERR_INVALID, "mps2p_solver_save_checkpoint: path is empty");
-    char *temporary = path_join_suffix(path, strlen(path), ".tmp");
-    if (!temporary)
+    char reason[256] = "", *target;
+    if (file_replace_target(path, &target, reason, sizeof reason) != 0)
+        return fail(NULL, strcmp(reason, "out of memory") == 0 ? MPS2P_ERR_NOMEM : MPS2P_ERR_IO,
+                    "checkpoint \"%s\": %s", path, reason);
+    char *temporary = path_join_suffix(target, strlen(target), ".tmp");
+    if (!temporary) {
+        free(target);
         return fail(NULL, MPS2P_ERR_NOMEM, "out of memory saving checkpoint \"%s\"", path);
+    }
 
     h5_guard guard;
     h5_context ctx;
@@ -275,16 +281,16 @@ int mps2p_solver_save_checkpoint(const mps2p_solver *s, const char *path)
         }
     }
     h5_leave(&guard);
-    char reason[256] = "";
     if (status == MPS2P_OK && checkpoint_seal(temporary, reason, sizeof reason) != 0)
         status = fail(NULL, MPS2P_ERR_IO, "checkpoint \"%s\": cannot write the checksum into "
                       "\"%s\": %s", path, temporary, reason);
-    if (status == MPS2P_OK && file_replace(temporary, path, reason, sizeof reason) != 0)
+    if (status == MPS2P_OK && file_replace(temporary, target, reason, sizeof reason) != 0)
         status = fail(NULL, MPS2P_ERR_IO, "checkpoint \"%s\": cannot move \"%s\" over it: %s",
                       path, temporary, reason);
     if (status != MPS2P_OK)
         remove(temporary);
     free(temporary);
+    free(target);
     return status;
 }
 

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 char *path_join_suffix(const char *path, size_t keep, const char *suffix)
@@ -53,6 +54,46 @@ int file_replace(const char *temporary, const char *path, char *reason, size_t s
         if (!reason[0])
             describe_errno(errno, reason, size);
         remove(temporary);
+        return -1;
+    }
+    return 0;
+}
+
+int file_replace_target(const char *path, char **target, char *reason, size_t size)
+{
+    *target = NULL;
+    struct stat seen;
+    if (lstat(path, &seen) != 0) {
+        if (errno != ENOENT) {
+            describe_errno(errno, reason, size);
+            return -1;
+        }
+        *target = strdup(path); /* nothing there yet */
+    } else if (S_ISLNK(seen.st_mode)) {
+        *target = realpath(path, NULL);
+        if (!*target) {
+            describe_errno(errno, reason, size);
+            snprintf(reason + strlen(reason), size - strlen(reason),
+                     " (a symbolic link whose target cannot be resolved)");
+            return -1;
+        }
+        if (stat(*target, &seen) != 0 || !S_ISREG(seen.st_mode)) {
+            snprintf(reason, size, "a symbolic link to \"%s\", which is not a regular file",
+                     *target);
+            free(*target);
+            *target = NULL;
+            return -1;
+        }
+    } else if (!S_ISREG(seen.st_mode)) {
+        snprintf(reason, size, "not a regular file (%s): it is not replaced",
+                 S_ISDIR(seen.st_mode) ? "a directory" : S_ISFIFO(seen.st_mode) ? "a FIFO"
+                 : S_ISCHR(seen.st_mode) || S_ISBLK(seen.st_mode) ? "a device" : "a socket");
+        return -1;
+    } else {
+        *target = strdup(path);
+    }
+    if (!*target) {
+        snprintf(reason, size, "out of memory");
         return -1;
     }
     return 0;

@@ -81,16 +81,23 @@ static void put_document(FILE *out, const char *h5_name, size_t count, const dou
 int xdmf_write(const char *xdmf_path, const char *h5_name, size_t count, const double *times,
                const size_t *particles, char *handle_error)
 {
-    char *temporary = path_join_suffix(xdmf_path, strlen(xdmf_path), ".tmp");
-    if (!temporary)
+    char reason[256] = "", *target;
+    if (file_replace_target(xdmf_path, &target, reason, sizeof reason) != 0)
+        return fail(handle_error,
+                    strcmp(reason, "out of memory") == 0 ? MPS2P_ERR_NOMEM : MPS2P_ERR_IO,
+                    "XDMF sidecar \"%s\": %s", xdmf_path, reason);
+    char *temporary = path_join_suffix(target, strlen(target), ".tmp");
+    if (!temporary) {
+        free(target);
         return fail(handle_error, MPS2P_ERR_NOMEM, "out of memory writing \"%s\"", xdmf_path);
-    char reason[256] = "";
+    }
     FILE *out = fopen(temporary, "w");
     if (!out) {
         describe_errno(errno, reason, sizeof reason);
         int status = fail(handle_error, MPS2P_ERR_IO, "XDMF sidecar \"%s\": cannot create: %s",
                           temporary, reason);
         free(temporary);
+        free(target);
         return status;
     }
     put_document(out, h5_name, count, times, particles);
@@ -101,13 +108,15 @@ int xdmf_write(const char *xdmf_path, const char *h5_name, size_t count, const d
         int status = fail(handle_error, MPS2P_ERR_IO, "XDMF sidecar \"%s\": cannot write: %s",
                           temporary, reason);
         free(temporary);
+        free(target);
         return status;
     }
     int status = MPS2P_OK;
-    if (file_replace(temporary, xdmf_path, reason, sizeof reason) != 0)
+    if (file_replace(temporary, target, reason, sizeof reason) != 0)
         status = fail(handle_error, MPS2P_ERR_IO,
                       "XDMF sidecar \"%s\": cannot replace it with \"%s\": %s", xdmf_path,
                       temporary, reason);
     free(temporary);
+    free(target);
     return status;
 }
