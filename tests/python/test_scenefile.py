@@ -156,6 +156,41 @@ def test_not_toml_and_missing_file(tmp_path):
         scenefile.load(str(tmp_path / "nowhere.toml"))
 
 
+def test_files_that_are_not_regular_are_refused(tmp_path):
+    # a FIFO blocked the reading forever, /dev/zero filled memory (an audit,
+    # session 24): refused at once, an alarm fails the test if it blocks
+    import signal
+
+    def blocked(signum, frame):
+        raise AssertionError("reading blocked")
+
+    fifo = tmp_path / "fifo.toml"
+    os.mkfifo(fifo)
+    previous = signal.signal(signal.SIGALRM, blocked)
+    signal.alarm(20)
+    try:
+        with pytest.raises(mps2p.SceneFileError, match="a FIFO, not a regular file"):
+            scenefile.load(str(fifo))
+        with pytest.raises(mps2p.SceneFileError, match="a device, not a regular file"):
+            scenefile.load("/dev/zero")
+        with pytest.raises(mps2p.SceneFileError, match="a directory, not a regular file"):
+            scenefile.load(str(tmp_path))
+        particles = tmp_path / "fifo.npz"
+        os.mkfifo(particles)
+        text = GOOD.replace("[[fluid_box]]\nfluid = \"water\"\nbox = [0.0, 0.0, 0.16, 0.3]\n",
+                            "[[particles]]\nfile = \"fifo.npz\"\n")
+        with pytest.raises(mps2p.SceneFileError, match="fifo.npz is a FIFO, not a regular file"):
+            scenefile.load(write(tmp_path, text)).build()
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+    big = tmp_path / "big.toml"
+    with open(big, "wb") as f:
+        f.write(b"#" * (scenefile.MOST_SCENE_BYTES + 1))
+    with pytest.raises(mps2p.SceneFileError, match="not a scene file"):
+        scenefile.load(str(big))
+
+
 def test_particles_from_an_npz_file(tmp_path):
     l0 = 0.02
     x, y = np.meshgrid((np.arange(8) + 0.5) * l0, (np.arange(15) + 0.5) * l0)

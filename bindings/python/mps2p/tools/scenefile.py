@@ -39,6 +39,7 @@ import difflib
 import math
 import os
 import re
+import stat
 import warnings
 
 try:
@@ -240,6 +241,9 @@ class SceneFile:
         path = name if os.path.isabs(name) else os.path.join(os.path.dirname(self.path), name)
         if not os.path.exists(path):
             raise self.error(key + ".file", "no such file: %s" % path)
+        odd = _not_regular(path)
+        if odd:
+            raise self.error(key + ".file", "%s is %s, not a regular file" % (path, odd))
         try:
             if path.endswith(".npz"):
                 with np.load(path) as f:
@@ -282,13 +286,38 @@ class SceneFile:
         return arrays
 
 
+# A scene file lists boxes and settings (a few kB); particles come in particle
+# files. Beyond this it is not a scene file, and reading on would only fill memory.
+MOST_SCENE_BYTES = 16 << 20
+
+
+def _not_regular(path):
+    """What path is when it is not a regular file (reading a FIFO blocks
+    forever, /dev/zero never ends), else None."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return None  # opening it says why
+    if stat.S_ISREG(mode):
+        return None
+    return ("a directory" if stat.S_ISDIR(mode) else "a FIFO" if stat.S_ISFIFO(mode)
+            else "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "a socket")
+
+
 def load(path):
     """Reads and checks a scene file; returns a SceneFile."""
+    odd = _not_regular(path)
+    if odd:
+        raise errors.SceneFileError("%s: cannot read: it is %s, not a regular file" % (path, odd))
     try:
         with open(path, "rb") as f:
-            raw = f.read()
+            raw = f.read(MOST_SCENE_BYTES + 1)
     except OSError as e:
         raise errors.SceneFileError("%s: cannot read: %s" % (path, e.strerror or e)) from e
+    if len(raw) > MOST_SCENE_BYTES:
+        raise errors.SceneFileError("%s: larger than %d MiB: not a scene file (particles go "
+                                    "in a .npz or .h5 particle file, [[particles]] file = ...)"
+                                    % (path, MOST_SCENE_BYTES >> 20))
     try:
         text = raw.decode("utf-8")
         data = tomllib.loads(text)
