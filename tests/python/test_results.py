@@ -52,6 +52,30 @@ def test_results_file_errors_name_the_path(tmp_path):
                 results.append_series("bad name!", 0.0, 1.0)
 
 
+def test_damaged_results_files_are_file_errors(tmp_path):
+    # an audit (session 24): a missing group was a KeyError, a fluid name that
+    # is not UTF-8 (the C library takes bytes) a UnicodeDecodeError, and
+    # Results(path, None) an AttributeError
+    with pytest.raises(TypeError, match="mps2p.Solver"):
+        Results(tmp_path / "none.h5", None)
+    path = tmp_path / "run.h5"
+    with dam_break() as solver, Results(path, solver) as results:
+        results.write_snapshot(solver)
+        results.write_snapshot(solver)
+    with h5py.File(path, "a") as f:
+        del f["snapshots"]["000001"]["pressure"]
+        f["fluids"]["name"][0] = b"w\xffter"
+    with mps2p.open_results(path) as read:
+        assert read.fluids[0][0] == "w\udcffter"  # kept, as Python keeps such file names
+        assert read.snapshot(0)["pressure"].shape == (read.metadata["particle_count"],)
+        with pytest.raises(mps2p.FileError, match="damaged: snapshot 000001: pressure missing"):
+            read.snapshot(1)
+    with h5py.File(path, "a") as f:
+        del f["snapshots"]
+    with pytest.raises(mps2p.FileError, match="damaged: snapshots missing"):
+        mps2p.open_results(path)
+
+
 def test_checkpoint_restart_is_bitwise(tmp_path):
     for method in ("cholmod", "cg"):
         with dam_break(pressure_solver=method) as solver:

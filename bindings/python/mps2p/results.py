@@ -16,6 +16,10 @@ class Results:
     run's metadata. Close it, or use `with`; open_results(path) reads it."""
 
     def __init__(self, path, solver, scene_text=None):
+        from .solver import Solver
+        if not isinstance(solver, Solver):
+            raise TypeError("Results: solver must be an mps2p.Solver, got %s"
+                            % type(solver).__name__)
         handle = ffi.new("mps2p_results **")
         text = encode(scene_text, "scene text") if scene_text is not None else ffi.NULL
         c_path = encode_path(path)
@@ -61,9 +65,11 @@ SNAPSHOT_FIELDS = ("position", "velocity", "pressure", "number_density", "kind",
 
 
 def _text(value):
-    """HDF5 strings come back from h5py as bytes (UTF-8 in these files)."""
+    """HDF5 strings come back from h5py as bytes (UTF-8 in these files; the C
+    library takes names as bytes, so others are kept as surrogate escapes,
+    as Python keeps file names)."""
     if isinstance(value, bytes):
-        return value.decode("utf-8")
+        return value.decode("utf-8", "surrogateescape")
     if isinstance(value, np.ndarray) and value.dtype.kind in "SO":
         return [_text(v) for v in value.tolist()]
     return value
@@ -123,6 +129,9 @@ class ResultsFile:
         self._file = _open_hdf5(h5py, path)
         try:
             self._read_metadata()
+        except KeyError as e:  # an attribute or dataset the format has is missing
+            self._file.close()
+            raise FileError('results file "%s" is damaged: %s' % (path, e)) from e
         except Exception:
             self._file.close()
             raise
@@ -132,6 +141,10 @@ class ResultsFile:
         if _text(f.attrs.get("format")) != "libmps2p results":
             raise ValueError("%s is not a libmps2p results file (format %r)"
                              % (self.path, _text(f.attrs.get("format"))))
+        lacking = [g for g in ("parameters", "fluids", "snapshots", "series") if g not in f]
+        if lacking:
+            raise FileError('results file "%s" is damaged: %s missing'
+                            % (self.path, ", ".join(lacking)))
         self.metadata = {key: _value(f.attrs[key]) for key in f.attrs}
         self.parameters = {key: _value(value) for key, value in f["parameters"].attrs.items()}
         fluids = f["fluids"]
@@ -153,6 +166,11 @@ class ResultsFile:
         """Snapshot k's time (float), step (int) and fields (numpy arrays)."""
         name = self._names[k]
         group = self._file["snapshots"][name]
+        lacking = [a for a in ("time", "step") if a not in group.attrs] + \
+                  [field for field in SNAPSHOT_FIELDS if field not in group]
+        if lacking:
+            raise FileError('results file "%s" is damaged: snapshot %s: %s missing'
+                            % (self.path, name, ", ".join(lacking)))
         out = {"time": float(group.attrs["time"]), "step": int(group.attrs["step"])}
         for field in SNAPSHOT_FIELDS:
             out[field] = np.array(group[field][()])
@@ -179,8 +197,9 @@ def open_results(path):
     for reading: a ResultsFile with str metadata and numpy arrays. Needs
     h5py. ValueError for an HDF5 file that is not a results file,
     mps2p.FileError (an OSError) for a missing file (mps2p.MissingFileError,
-    also a FileNotFoundError), one that is not HDF5 or one that cannot be
-    read."""
+    also a FileNotFoundError), one that is not HDF5, one that is damaged (a
+    group or attribute of the format missing; snapshot(k) likewise) or one
+    that cannot be read."""
     return ResultsFile(path)
 
 
