@@ -191,6 +191,22 @@ static void test_spacing_beyond_a_double(void)
     }
 }
 
+/* A step at the end of a double's range makes the PPE source overflow:
+ * the step fails naming that, not "residual nan", and keeps its state. */
+static void test_step_beyond_a_double(void)
+{
+    mps2p_scene *scene = tank_scene(0.02, 0.2, 0.1);
+    mps2p_solver *solver;
+    MUST(mps2p_scene_set_param(scene, "dt", 1e-300));
+    MUST(mps2p_solver_create(scene, &solver));
+    EXPECT(mps2p_solver_step(solver), MPS2P_ERR_SOLVE, "beyond what the solver can compute");
+    double time = -1.0;
+    MUST(mps2p_solver_get_time(solver, &time));
+    CHECK(time == 0.0, "the failed step moved time to %g", time);
+    mps2p_solver_destroy(solver);
+    mps2p_scene_destroy(scene);
+}
+
 int main(void)
 {
     mps2p_scene *scene = NULL;
@@ -419,5 +435,6 @@ int main(void)
     test_count_checked_before_reading();
     test_last_error_cleared_on_success();
     test_spacing_beyond_a_double();
+    test_step_beyond_a_double();
     return check_summary("test_api_errors");
 }
