@@ -26,9 +26,10 @@ def test_the_python_quick_start_is_the_program_run_here():
     assert done.returncode == 0, done.stderr
     front, particles = done.stdout.splitlines()
     match = re.fullmatch(r"front at x = (\d\.\d{3}) m after (\d+) steps", front)
-    assert match and 0.3 < float(match.group(1)) < 0.62 and int(match.group(2)) > 100, front
+    # on its way: not yet at the right wall (0.6 m), which it reaches at about 0.27 s
+    assert match and 0.3 < float(match.group(1)) < 0.58 and int(match.group(2)) > 100, front
     assert particles.startswith("(1282, 2) particles, walls too; max speed "), particles
-    assert "0.3/0.3 s" in done.stderr  # the progress bar reached the end
+    assert "0.2/0.2 s" in done.stderr  # the progress bar reached the end
 
 
 def test_the_c_quick_start_is_the_consumer_the_tests_build():
