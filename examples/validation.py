@@ -14,7 +14,8 @@ Koshizuka and Oka's (scheme koshizuka1996).
 Each case writes CSV series, a JSON summary and PNG pictures into DIR
 (default out/validation). --quick runs shorter versions (still water 2 s,
 Buchner at H/l0 = 40 only); --fine adds Buchner at H/l0 = 160; --pysph-python adds
-PySPH's own Buchner example (its EDAC scheme, H/dx = 40) to the impact figure and table.
+PySPH's own Buchner example (its EDAC scheme, H/dx = 40) to the impact figure and table,
+and PySPH's EDAC on Buchner's stream alone (at the stream's spacing and half of it).
 scatter runs the violent cases again perturbed in cfl or dt (the default
 scheme, or it with --settings changed) and adds their statistics' mean,
 standard deviation and range to scatter.json. buchner_air runs Buchner's case
@@ -807,11 +808,97 @@ STREAM = {"l0": 0.015, "h": 0.0896, "U": 2.98, "length": 2.02, "end": 0.75, "eve
           "picture_at": 0.5, "heights": (0.25, 0.5, 1.0, 0.16 / 0.0896, 2.0, 3.0)}
 
 
-def run_stream(out, quick):
+# Runs in PySPH's interpreter: Buchner's stream alone (STREAM) in PySPH's EDAC
+# scheme as its db_2d_buchner example sets it (quintic spline, h = 1.3 dx,
+# c0 ten times sqrt(2 g H) at H = 0.6 m, dt = 0.125 h / c0, pressure clamped at
+# 0), 4 wall layers, written every `every` s; then the wall's pressure read as
+# PYSPH_PROBE reads Buchner's (Shepard over fluid and walls, half a spacing
+# inside the wall's face) at the heights and up a column every dx to 6 h.
+PYSPH_STREAM = r"""
+import json, math, sys
+import numpy as np
+from pysph.base.kernels import QuinticSpline
+from pysph.base.utils import get_particle_array
+from pysph.solver.application import Application
+from pysph.solver.utils import get_files, iter_output
+from pysph.sph.wc.edac import EDACScheme
+from pysph.tools.interpolator import Interpolator
+c = json.loads(sys.argv[1])
+dx, h, U, length, end, every = c["dx"], c["h"], c["U"], c["length"], c["end"], c["every"]
+x0 = gap = 0.1
+wall, rho, g, hdx, layers = x0 + length + gap, 1000.0, 9.81, 1.3, 4
+c0 = 10.0 * math.sqrt(2 * g * 0.6)
+class Stream(Application):
+    def create_scheme(self):
+        return EDACScheme(fluids=["fluid"], solids=["boundary"], dim=2, c0=c0, nu=0.0,
+                          rho0=rho, h=hdx * dx, pb=0.0, gy=-g, eps=0.0, clamp_p=True)
+    def configure_scheme(self):
+        times = [k * every for k in range(1, int(round(end / every)) + 1)]
+        self.scheme.configure_solver(kernel=QuinticSpline(dim=2), dt=0.125 * hdx * dx / c0,
+                                     tf=end, output_at_times=times, pfreq=10 ** 9)
+    def create_particles(self):
+        xf, yf = np.meshgrid(x0 + dx * (np.arange(int(round(length / dx))) + 0.5),
+                             dx * (np.arange(int(round(h / dx))) + 0.5), indexing="ij")
+        side = dx * (np.arange(int(round((U * end + 1.0) / dx))) + 0.5)
+        floor = -layers * dx + dx * (np.arange(int(round(wall / dx)) + 2 * layers) + 0.5)
+        xs = np.concatenate([np.concatenate([np.full(len(side), -(j + 0.5) * dx),
+                                             np.full(len(side), wall + (j + 0.5) * dx), floor])
+                             for j in range(layers)])
+        ys = np.concatenate([np.concatenate([side, side, np.full(len(floor), -(j + 0.5) * dx)])
+                             for j in range(layers)])
+        m = rho * dx * dx
+        fluid = get_particle_array(name="fluid", x=xf.ravel(), y=yf.ravel(), h=hdx * dx, m=m,
+                                   rho=rho)
+        boundary = get_particle_array(name="boundary", x=xs, y=ys, h=hdx * dx, m=m, rho=rho)
+        self.scheme.setup_properties([fluid, boundary])
+        fluid.u[:] = U
+        return [fluid, boundary]
+Stream().run(["-d", c["work"]])
+heights = [f * h for f in c["heights"]] + [dx * (k + 0.5) for k in range(int(round(6 * h / dx)))]
+x = np.full(len(heights), wall - 0.5 * dx)
+rows, interp = [], None
+for solver_data, fluid, boundary in iter_output(get_files(c["work"]), "fluid", "boundary"):
+    if interp is None:
+        interp = Interpolator([fluid, boundary], x=x, y=np.array(heights), method="shepard")
+    else:
+        interp.update_particle_arrays([fluid, boundary])
+    rows.append([float(solver_data["t"])] + [float(v) for v in interp.interpolate("p")])
+print(json.dumps({"rows": rows}))
+"""
+
+
+def pysph_stream(out, python, l0):
+    """Buchner's stream alone in PySPH (PYSPH_STREAM) at spacing l0: its wall
+    pressure's statistics as turning_stream gives ours. Output files deleted."""
+    import shutil
+    import subprocess
+    work = os.path.join(out, "pysph_stream_%g" % l0)
+    shutil.rmtree(work, ignore_errors=True)
+    config = dict(STREAM, dx=l0, work=work)
+    config.pop("l0")
+    config.pop("picture_at")
+    done = subprocess.run([python, "-c", PYSPH_STREAM, json.dumps(config)], check=True,
+                          capture_output=True, text=True)
+    rows = np.array(json.loads(done.stdout.strip().splitlines()[-1])["rows"])
+    shutil.rmtree(work, ignore_errors=True)
+    h, U = STREAM["h"], STREAM["U"]
+    heights = STREAM["heights"]
+    steady = rows[:, 0] >= 0.1 / U + 2 * h / U  # as turning_stream's window
+    p = rows[steady, 1:1 + len(heights)] / (0.5 * RHO * U * U)
+    force = rows[steady, 1 + len(heights):].sum(axis=1) * l0 / (RHO * U * U * h)
+    return {"label": "PySPH edac, dx %g m" % l0, "l0": l0, "h": h, "U": U,
+            "heights_over_h": list(heights), "p_mean": [float(v) for v in p.mean(axis=0)],
+            "p_std": [float(v) for v in p.std(axis=0)],
+            "p_theory": [turning_theory(f * h, h) for f in heights],
+            "force": float(force.mean())}
+
+
+def run_stream(out, quick, pysph_python=None):
     """Buchner's plateau on its own: a uniform stream as deep and fast as
     Ritter's at the wall, with gravity, turning up the wall; P1's reading
     over rho g H (H = 0.6 m) beside Buchner's plateau (0.55) and the
-    gravity-free theory's."""
+    gravity-free theory's; with pysph_python, PySPH's EDAC on the same stream
+    at this spacing and half of it (about 5 minutes more)."""
     # the turn is chaotic (the readings' standard deviation is most of their
     # mean): three runs a scheme, perturbed in dt
     runs = [("corrected", {}), ("koshizuka1996", {"scheme": "koshizuka1996"})]
@@ -824,6 +911,13 @@ def run_stream(out, quick):
         label = "%s, dt %g s" % (scheme, dt)
         print("Buchner's stream turning, %s" % label)
         _, s, _ = turning_stream(label, {"gravity_y": -G, "dt": dt, **settings}, **STREAM)
+        s["P1_over_rho_g_H"] = s["p_mean"][3] * stagnation_over_rho_g_H
+        s["P1_theory_over_rho_g_H"] = s["p_theory"][3] * stagnation_over_rho_g_H
+        summaries.append(s)
+        print("  " + json.dumps(s))
+    for l0 in ((STREAM["l0"], STREAM["l0"] / 2) if pysph_python else ()):
+        print("Buchner's stream turning, PySPH edac, dx %g m" % l0)
+        s = pysph_stream(out, pysph_python, l0)
         s["P1_over_rho_g_H"] = s["p_mean"][3] * stagnation_over_rho_g_H
         s["P1_theory_over_rho_g_H"] = s["p_theory"][3] * stagnation_over_rho_g_H
         summaries.append(s)
@@ -983,7 +1077,8 @@ def main(argv=None):
                         help="buchner: also H/l0 = 160 (about 45 minutes more)")
     parser.add_argument("--pysph-python", metavar="PY",
                         help="buchner: also PySPH's own Buchner example at H/dx = 40 (edac), run "
-                             "with this Python, which has PySPH (about 11 minutes more)")
+                             "with this Python, which has PySPH (about 11 minutes more); stream: "
+                             "PySPH's edac on the same stream (about 5 minutes more)")
     parser.add_argument("--settings", metavar="JSON", default="{}",
                         help="scatter: parameters and options changed from the default scheme, "
                              "as a JSON object (a run's summary is added to scatter.json's list)")
@@ -998,7 +1093,9 @@ def main(argv=None):
              else (args.case,))
     runners = {"still": run_still, "dam": run_dam, "shift": run_shift,
                "buchner": lambda out, quick: run_buchner(out, quick, args.fine, args.pysph_python),
-               "turning": run_turning, "stream": run_stream, "buchner_air": run_buchner_air,
+               "turning": run_turning,
+               "stream": lambda out, quick: run_stream(out, quick, args.pysph_python),
+               "buchner_air": run_buchner_air,
                "gate": run_gate}
     if args.case == "scatter":
         summary = run_scatter(args.out, args.quick, json.loads(args.settings))
