@@ -877,10 +877,15 @@ def pysph_stream(out, python, l0):
     config = dict(STREAM, dx=l0, work=work)
     config.pop("l0")
     config.pop("picture_at")
-    done = subprocess.run([python, "-c", PYSPH_STREAM, json.dumps(config)], check=True,
-                          capture_output=True, text=True)
+    try:
+        done = subprocess.run([python, "-c", PYSPH_STREAM, json.dumps(config)],
+                              capture_output=True, text=True)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    if done.returncode != 0:
+        sys.exit("validation.py: PySPH's stream with --pysph-python %s failed:\n%s"
+                 % (python, done.stderr.strip()[-2000:]))
     rows = np.array(json.loads(done.stdout.strip().splitlines()[-1])["rows"])
-    shutil.rmtree(work, ignore_errors=True)
     h, U = STREAM["h"], STREAM["U"]
     heights = STREAM["heights"]
     steady = rows[:, 0] >= 0.1 / U + 2 * h / U  # as turning_stream's window
@@ -899,6 +904,13 @@ def run_stream(out, quick, pysph_python=None):
     over rho g H (H = 0.6 m) beside Buchner's plateau (0.55) and the
     gravity-free theory's; with pysph_python, PySPH's EDAC on the same stream
     at this spacing and half of it (about 5 minutes more)."""
+    if pysph_python:  # before our runs, not after them
+        import subprocess
+        needs = subprocess.run([pysph_python, "-c", "import pysph"], capture_output=True,
+                               text=True)
+        if needs.returncode:
+            sys.exit("validation.py: --pysph-python %s has no PySPH: %s"
+                     % (pysph_python, (needs.stderr.strip().splitlines() or ["?"])[-1]))
     # the turn is chaotic (the readings' standard deviation is most of their
     # mean): three runs a scheme, perturbed in dt
     runs = [("corrected", {}), ("koshizuka1996", {"scheme": "koshizuka1996"})]

@@ -217,10 +217,12 @@ int params_set_option(params *p, const char *key, const char *value,
                       char *message, size_t size);
 int params_get_option(const params *p, const char *key, const char **value);
 double params_max_radius(const params *p);
-/* Key of the index-th numeric parameter or option (0, 1, ...), NULL past the
- * last: lets the output files list them all without knowing them, and
- * without touching the caller's last error as mps2p_param_info does. */
+/* Key of the index-th numeric parameter (0, 1, ...), NULL past the last:
+ * lets the output files list them without touching the caller's last error,
+ * as mps2p_param_info would. */
 const char *params_key(size_t index);
+/* Key of the index-th option (0, 1, ...), NULL past the last: lets the
+ * output files list every option without knowing them. */
 const char *params_option_key(size_t index);
 
 /* ---- scene (scene.c) ---- */

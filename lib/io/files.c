@@ -1,6 +1,6 @@
 /* File-system helpers for the output files: derived paths, and replacing a
  * file atomically (write a temporary next to it, flush it to disk, rename). */
-#define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700 /* realpath, lstat, strdup */
 #include "io/io.h"
 
 #include <errno.h>

@@ -274,9 +274,10 @@ static int build(mps2p_solver *s, const mps2p_scene *scene)
     for (size_t k = 0; k < sizeof derived / sizeof derived[0]; k++)
         if (!(isfinite(derived[k].value) && derived[k].value > 0.0))
             return fail(NULL, MPS2P_ERR_INVALID,
-                        "l0 = %g m and gravity (%g, %g) m/s^2 give %s = %g, not a finite "
-                        "positive number: the spacing or gravity is beyond what the solver "
-                        "can compute with", s->l0, s->params.gravity[0], s->params.gravity[1],
+                        "l0 = %g m, gravity (%g, %g) m/s^2 and the heaviest fluid's density "
+                        "%g kg/m^3 give %s = %g, not a finite positive number: the spacing, "
+                        "gravity or density is beyond what the solver can compute with",
+                        s->l0, s->params.gravity[0], s->params.gravity[1], heaviest,
                         derived[k].name, derived[k].value);
 
     status = coupling_create(s, scene);

@@ -454,15 +454,25 @@ int pressure_solve_system(mps2p_solver *s, ppe_system *sys)
                                 ? (size_t)s->params.cg_max_iterations
                                 : 10 * unknowns + 100;
     /* a density, gravity or step at the ends of a double's range makes the
-     * source overflow (rho / dt^2): say so, not "residual nan" */
-    for (size_t i = 0; i < s->count; i++)
-        if (s->unknown_of[i] >= 0 && !isfinite(s->rhs[s->unknown_of[i]]))
-            return fail(s->error, MPS2P_ERR_SOLVE,
-                        "step %llu at t = %.6g s: the pressure equation's source at particle "
-                        "%zu is %g (its density %g kg/m^3): a density, gravity or time step "
-                        "beyond what the solver can compute with",
-                        (unsigned long long)s->steps + 1, s->time, i,
-                        s->rhs[s->unknown_of[i]], sys->density[i]);
+     * source overflow (rho / dt^2), or its square in CG's norms: say so, not
+     * "residual nan" */
+    double square_sum = 0.0;
+    for (size_t u = 0; u < unknowns; u++)
+        square_sum += s->rhs[u] * s->rhs[u];
+    if (!isfinite(square_sum)) {
+        size_t i = 0;
+        double largest = 0.0;
+        for (size_t k = 0; k < s->count; k++)
+            if (s->unknown_of[k] >= 0 && !(fabs(s->rhs[s->unknown_of[k]]) <= largest)) {
+                largest = fabs(s->rhs[s->unknown_of[k]]);
+                i = k;
+            }
+        return fail(s->error, MPS2P_ERR_SOLVE,
+                    "step %llu at t = %.6g s: the pressure equation's source is %g at particle "
+                    "%zu (its density %g kg/m^3), too large to solve: a density, gravity or "
+                    "time step beyond what the solver can compute with",
+                    (unsigned long long)s->steps + 1, s->time, largest, i, sys->density[i]);
+    }
     char message[ERROR_MESSAGE_SIZE];
     size_t iterations = 0;
     double residual = 0.0;
