@@ -9,6 +9,7 @@ Koshizuka and Oka's (scheme koshizuka1996).
     python3 examples/validation.py scatter [--settings JSON] [--quick] [--out DIR]
     python3 examples/validation.py buchner_air [--quick] [--out DIR]
     python3 examples/validation.py gate [--quick] [--out DIR]
+    python3 examples/validation.py transplant --pysph-python PY [--quick] [--out DIR]
     python3 examples/validation.py tables [--out DIR]   # the JSONs as Markdown
 
 Each case writes CSV series, a JSON summary and PNG pictures into DIR
@@ -595,6 +596,140 @@ def run_buchner(out, quick, fine=False, pysph_python=None):
     return summaries
 
 
+# Runs in PySPH's interpreter: the water of PySPH's run (its output folder)
+# at its last output, as JSON (x, y, u, v; H = 1 there).
+PYSPH_STATE = r"""
+import json, sys
+from pysph.solver.utils import get_files, load
+fluid = load(get_files(sys.argv[1])[-1])["arrays"]["fluid"]
+print(json.dumps({k: fluid.get(k).tolist() for k in ("x", "y", "u", "v")}))
+"""
+
+TRANSPLANT_AT = 2.4  # t*: PySPH's front meets the wall
+
+
+def lattice_from(xy, uv, l0, length, height, hdx=1.3):
+    """Water given as any particles (PySPH's) put on this library's lattice: a
+    site is water where their volume fraction, sum l0^2 W(r, hdx l0) with
+    PySPH's quintic spline, is at least a half; its velocity the mean of
+    theirs within 1.5 l0, weighted 1 - r / (1.5 l0)."""
+    h = hdx * l0
+    bins = {}
+    for k, (x, y) in enumerate(xy):
+        bins.setdefault((int(x // l0), int(y // l0)), []).append(k)
+    sites, velocities = [], []
+    for i in range(int(round(length / l0))):
+        for j in range(int(round(height / l0))):
+            near = [k for a in range(-4, 5) for b in range(-4, 5) for k in bins.get((i + a, j + b), ())]
+            if not near:
+                continue
+            near = np.array(near)
+            x, y = (i + 0.5) * l0, (j + 0.5) * l0
+            r = np.hypot(xy[near, 0] - x, xy[near, 1] - y)
+            q = r / h
+            w = (np.clip(3 - q, 0, None) ** 5 - 6 * np.clip(2 - q, 0, None) ** 5 +
+                 15 * np.clip(1 - q, 0, None) ** 5) * 7.0 / (478.0 * math.pi * h * h)
+            if (w * l0 * l0).sum() < 0.5:
+                continue
+            weight = np.clip(1.0 - r / (1.5 * l0), 0.0, None)
+            sites.append((x, y))
+            velocities.append((weight[:, None] * uv[near]).sum(0) / weight.sum())
+    return np.array(sites), np.array(velocities)
+
+
+def impact_from(xy, uv, start_star, settings=None, per_height=40, H=0.6, end_star=4.5):
+    """Buchner's case (as impact()) from a given water state at t* = start_star;
+    P1 and the pressure 0.1 m up the wall every 0.01 t*."""
+    l0 = H / per_height
+    length = math.floor(5.366 * per_height) * l0
+    with mps2p.Scene(l0, scheme="corrected") as scene:
+        scene.set(**(settings or {}))
+        water = scene.add_fluid("water", RHO, 1e-6)
+        n = len(xy)
+        scene.add_particles(np.ascontiguousarray(xy), np.full(n, mps2p.KIND_FLUID, dtype=np.intc),
+                            np.full(n, water, dtype=np.intc), np.ascontiguousarray(uv))
+        scene.add_tank(0.0, 0.0, length + 1e-9, 3 * H + 1e-9, open_top=True)
+        solver = mps2p.Solver(scene)
+    scale_t, scale_p = math.sqrt(H / G), RHO * G * H
+    points = [[length - 0.5 * l0, 0.16], [length - 0.5 * l0, 0.1]]
+    rows, k = [], 1
+    while start_star + k * 0.01 <= end_star + 1e-9:
+        solver.advance_to(k * 0.01 * scale_t)
+        rows.append((start_star + k * 0.01,) + tuple(solver.probe(points)[0] / scale_p))
+        k += 1
+    return np.array(rows)
+
+
+def windows(rows, edges=(3.0, 3.5, 4.0, 4.5)):
+    """Means of P1 and of the pressure 0.1 m up over each half unit of t*."""
+    out = []
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        inside = (rows[:, 0] >= lo) & (rows[:, 0] < hi)
+        out.append([float(rows[inside, 1].mean()), float(rows[inside, 2].mean())])
+    return out
+
+
+def run_transplant(out, quick, pysph_python=None):
+    """Where Buchner's missing load is (docs/validation.md, "The same arriving
+    flow in our scheme"): PySPH's corrected run (PYSPH_BUCHNER, H/dx = 40) to
+    t* = 2.4, its water put on our lattice (lattice_from) and continued by
+    our scheme, as shipped and with the damper at 0.9 l0; as a control, our
+    own run's state at t* = 2.4 put on the lattice the same way; each over
+    three runs perturbed in cfl. Needs --pysph-python (about 5 minutes)."""
+    import shutil
+    import subprocess
+    if not pysph_python:
+        sys.exit("validation.py transplant: needs --pysph-python PY, a Python with PySPH")
+    H, per_height = 0.6, 40
+    l0 = H / per_height
+    length = math.floor(5.366 * per_height) * l0
+    work = os.path.join(out, "pysph_buchner_to_%g" % TRANSPLANT_AT)
+    shutil.rmtree(work, ignore_errors=True)
+    dx = 1.0 / per_height  # H = 1 in PySPH's example
+    try:
+        subprocess.run([pysph_python, "-c", PYSPH_BUCHNER, "--scheme", "edac", "--dx", repr(dx),
+                        "--tf", repr(TRANSPLANT_AT / math.sqrt(G)), "--pfreq", "1000000000",
+                        "-d", work], check=True, stdout=subprocess.DEVNULL)
+        state = json.loads(subprocess.run([pysph_python, "-c", PYSPH_STATE, work], check=True,
+                                          capture_output=True, text=True).stdout)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    # its walls' inner layers at x = 0 and 5.375, y = 0: faces half a spacing in,
+    # 5.35 H apart, our tank's 214 l0 at H = 0.6 m
+    scale = H / 1.0
+    xy = np.column_stack([(np.array(state["x"]) - 0.5 * dx) * scale,
+                          (np.array(state["y"]) - 0.5 * dx) * scale])
+    uv = np.column_stack([state["u"], state["v"]]) * math.sqrt(scale)
+    theirs = lattice_from(xy, uv, l0, length, 3 * H)
+    # ours to the same t*, put on the lattice the same way
+    with mps2p.Scene(l0, scheme="corrected") as scene:
+        water = scene.add_fluid("water", RHO, 1e-6)
+        scene.add_fluid_box(water, 0.0, 0.0, 2 * H + 1e-9, H + 1e-9)
+        scene.add_tank(0.0, 0.0, length + 1e-9, 3 * H + 1e-9, open_top=True)
+        solver = mps2p.Solver(scene)
+    solver.advance_to(TRANSPLANT_AT * math.sqrt(H / G))
+    fluid = solver.kinds() == mps2p.KIND_FLUID
+    ours = lattice_from(solver.positions()[fluid], solver.velocities()[fluid], l0, length, 3 * H)
+    runs = [("PySPH's state", theirs, {}), ("PySPH's state, collision_distance 0.9", theirs,
+                                             {"collision_distance": 0.9}),
+            ("our state", ours, {})]
+    # each a chaotic sample: three runs perturbed in cfl, their mean and spread
+    summary = []
+    for label, (sites, velocities), settings in runs[:1] if quick else runs:
+        print("transplant: %s" % label)
+        samples = np.array([windows(impact_from(sites, velocities, TRANSPLANT_AT,
+                                                dict(settings, cfl=cfl)))
+                            for cfl in SCATTER_CFL[:1 if quick else 3]])
+        summary.append({"label": label, "sites": len(sites), "settings": settings,
+                        "cfl": list(SCATTER_CFL[:len(samples)]),
+                        "windows_t_star": [3.0, 3.5, 4.0, 4.5],
+                        "P1_mean": samples[:, :, 0].mean(0).tolist(),
+                        "P1_std": samples[:, :, 0].std(0).tolist(),
+                        "at_0.1m_mean": samples[:, :, 1].mean(0).tolist()})
+        print("  " + json.dumps(summary[-1]))
+    return summary
+
+
 def run_buchner_air(out, quick):
     """Buchner's case at H/l0 = 40 with air around the column and without, at
     the scatter's cfl values (four; two with --quick): does the air the
@@ -1077,11 +1212,14 @@ def tables(out):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("case", choices=("still", "dam", "shift", "buchner", "turning", "stream", "all",
-                                         "scatter", "buchner_air", "gate", "tables"),
+                                         "scatter", "buchner_air", "gate", "transplant",
+                                         "tables"),
                         help="a case, all six, or scatter (the violent cases' statistics "
                              "over perturbed runs; not in all), buchner_air (Buchner's case "
                              "with air and without; not in all), gate (the dam break released by a lifted "
-                             "gate; not in all), or tables: the JSON "
+                             "gate; not in all), transplant (PySPH's Buchner flow at t* = 2.4 "
+                             "continued by this scheme; needs --pysph-python; not in all), or "
+                             "tables: the JSON "
                              "summaries in --out as Markdown (the shift and buchner_air "
                              "cases' tables are written by hand)")
     parser.add_argument("--quick", action="store_true", help="shorter runs (see the module help)")
@@ -1108,6 +1246,7 @@ def main(argv=None):
                "turning": run_turning,
                "stream": lambda out, quick: run_stream(out, quick, args.pysph_python),
                "buchner_air": run_buchner_air,
+               "transplant": lambda out, quick: run_transplant(out, quick, args.pysph_python),
                "gate": run_gate}
     if args.case == "scatter":
         summary = run_scatter(args.out, args.quick, json.loads(args.settings))
