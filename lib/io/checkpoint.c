@@ -245,9 +245,9 @@ int mps2p_solver_save_checkpoint(const mps2p_solver *s, const char *path)
     if (!path[0])
         return fail(NULL, MPS2P_ERR_INVALID, "mps2p_solver_save_checkpoint: path is empty");
     char reason[256] = "", *target;
-    if (file_replace_target(path, &target, reason, sizeof reason) != 0)
-        return fail(NULL, strcmp(reason, "out of memory") == 0 ? MPS2P_ERR_NOMEM : MPS2P_ERR_IO,
-                    "checkpoint \"%s\": %s", path, reason);
+    int refused = file_replace_target(path, &target, reason, sizeof reason);
+    if (refused != MPS2P_OK)
+        return fail(NULL, refused, "checkpoint \"%s\": %s", path, reason);
     char *temporary = path_join_suffix(target, strlen(target), ".tmp");
     if (!temporary) {
         free(target);

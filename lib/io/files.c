@@ -66,7 +66,7 @@ int file_replace_target(const char *path, char **target, char *reason, size_t si
     if (lstat(path, &seen) != 0) {
         if (errno != ENOENT) {
             describe_errno(errno, reason, size);
-            return -1;
+            return MPS2P_ERR_IO;
         }
         *target = strdup(path); /* nothing there yet */
     } else if (S_ISLNK(seen.st_mode)) {
@@ -75,26 +75,26 @@ int file_replace_target(const char *path, char **target, char *reason, size_t si
             describe_errno(errno, reason, size);
             snprintf(reason + strlen(reason), size - strlen(reason),
                      " (a symbolic link whose target cannot be resolved)");
-            return -1;
+            return MPS2P_ERR_IO;
         }
         if (stat(*target, &seen) != 0 || !S_ISREG(seen.st_mode)) {
             snprintf(reason, size, "a symbolic link to \"%s\", which is not a regular file",
                      *target);
             free(*target);
             *target = NULL;
-            return -1;
+            return MPS2P_ERR_IO;
         }
     } else if (!S_ISREG(seen.st_mode)) {
         snprintf(reason, size, "not a regular file (%s): it is not replaced",
                  S_ISDIR(seen.st_mode) ? "a directory" : S_ISFIFO(seen.st_mode) ? "a FIFO"
                  : S_ISCHR(seen.st_mode) || S_ISBLK(seen.st_mode) ? "a device" : "a socket");
-        return -1;
+        return MPS2P_ERR_IO;
     } else {
         *target = strdup(path);
     }
     if (!*target) {
         snprintf(reason, size, "out of memory");
-        return -1;
+        return MPS2P_ERR_NOMEM;
     }
-    return 0;
+    return MPS2P_OK;
 }

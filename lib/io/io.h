@@ -145,9 +145,10 @@ void describe_errno(int error, char *out, size_t size);
 int file_sync(const char *path, char *reason, size_t size);
 /* The file an atomic replace of path should replace, in *target (freed by
  * the caller): path itself when nothing is there or a regular file is, the
- * file a symbolic link leads to (the link stays a link). 0, or -1 with a
- * reason when something else is there (a device, a FIFO, a directory: a
- * rename would put a regular file in its place) or out of memory. */
+ * file a symbolic link leads to (the link stays a link). MPS2P_OK, or
+ * MPS2P_ERR_IO with a reason when something else is there (a device, a
+ * FIFO, a directory: a rename would put a regular file in its place), or
+ * MPS2P_ERR_NOMEM. */
 int file_replace_target(const char *path, char **target, char *reason, size_t size);
 /* Flushes temporary to disk and renames it over path; on failure removes
  * temporary and returns -1 with a reason (reason must start empty). */

@@ -82,10 +82,9 @@ int xdmf_write(const char *xdmf_path, const char *h5_name, size_t count, const d
                const size_t *particles, char *handle_error)
 {
     char reason[256] = "", *target;
-    if (file_replace_target(xdmf_path, &target, reason, sizeof reason) != 0)
-        return fail(handle_error,
-                    strcmp(reason, "out of memory") == 0 ? MPS2P_ERR_NOMEM : MPS2P_ERR_IO,
-                    "XDMF sidecar \"%s\": %s", xdmf_path, reason);
+    int refused = file_replace_target(xdmf_path, &target, reason, sizeof reason);
+    if (refused != MPS2P_OK)
+        return fail(handle_error, refused, "XDMF sidecar \"%s\": %s", xdmf_path, reason);
     char *temporary = path_join_suffix(target, strlen(target), ".tmp");
     if (!temporary) {
         free(target);
