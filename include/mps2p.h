@@ -449,6 +449,9 @@ MPS2P_API int mps2p_solver_get_last_dt(const mps2p_solver *solver, double *dt);
  *                      particle (l0; computed when asked, from the neighbour list)
  *   fluid_out          fluid particles that left the domain and are out of the
  *                      run (MPS2P_KIND_OUT; parameter out_limit)
+ *   threads            threads the particle loops run on: parameter threads,
+ *                      or OpenMP's default for 0 (OMP_NUM_THREADS, else the
+ *                      cores); 1 in a build without OpenMP
  * With two phases (0 when effect two_phase is off): gas_triggered (light
  *   particles with delta_al = 1 in the last step), gas_enclosed (heavy
  *   particles in all 8 sectors), gas_joined (reacting), gas_pressure_max (Pa,

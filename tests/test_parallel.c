@@ -25,6 +25,13 @@ static result run(mps2p_scene *scene, double threads, int steps)
     MUST(mps2p_solver_particle_count(solver, &out.n));
     MUST(mps2p_solver_get_stat(solver, "ppe_unknowns", &out.ppe_unknowns));
     MUST(mps2p_solver_get_stat(solver, "gas_ppe_unknowns", &out.gas_ppe_unknowns));
+    double used;
+    MUST(mps2p_solver_get_stat(solver, "threads", &used));
+#ifdef LIBRARY_HAS_OPENMP
+    CHECK(used == threads, "statistic threads %g with parameter threads %g", used, threads);
+#else
+    CHECK(used == 1.0, "statistic threads %g without OpenMP", used);
+#endif
     out.state = malloc(5 * out.n * sizeof *out.state);
     if (!out.state) {
         fprintf(stderr, "test_parallel: out of memory\n");
@@ -126,6 +133,12 @@ int main(void)
 
     /* 0 = OpenMP's default; whole numbers in [0, 1024] only */
     CHECK(mps2p_scene_set_param(scene, "threads", 0) == MPS2P_OK, "threads 0 refused");
+    mps2p_solver *every_core;
+    double used;
+    MUST(mps2p_solver_create(scene, &every_core));
+    MUST(mps2p_solver_get_stat(every_core, "threads", &used));
+    CHECK(used >= 1.0 && used == (double)(int)used, "threads 0: statistic threads %g", used);
+    mps2p_solver_destroy(every_core);
     CHECK(mps2p_scene_set_param(scene, "threads", -1) == MPS2P_ERR_INVALID, "threads -1 taken");
     CHECK(mps2p_scene_set_param(scene, "threads", 1.5) == MPS2P_ERR_INVALID,
           "threads 1.5 taken");

@@ -83,6 +83,9 @@ static double ppe_analyses(const mps2p_solver *s)
 static double eddy_viscosity_max(const mps2p_solver *s) { return s->eddy_viscosity_max; }
 static double memory_bytes(const mps2p_solver *s) { return (double)solver_memory_bytes(s); }
 static double fluid_out(const mps2p_solver *s) { return (double)s->fluid_out; }
+/* what parameter threads comes to: 0 asks OpenMP's default, which a run's
+ * record should name as a count (1 in a build without OpenMP) */
+static double threads(const mps2p_solver *s) { return (double)team_size(s->params.threads); }
 static double diverged_particle(const mps2p_solver *s)
 {
     return s->diverged ? (double)s->diverged_particle : -1.0;
@@ -137,6 +140,8 @@ static const stat_entry solver_stats[] = {
          "the particle a divergence was found at; -1 when none or not known"),
     STAT(fluid_out, 1, "fluid particles that left the domain and are out of the run "
                        "(kind MPS2P_KIND_OUT; parameter out_limit)"),
+    STAT(threads, 1, "threads the particle loops run on: parameter threads, or OpenMP's "
+                     "default for 0; 1 without OpenMP"),
 };
 #define SOLVER_STATS (sizeof solver_stats / sizeof solver_stats[0])
 #define STAT_COUNT (SOLVER_STATS + two_phase_stat_count)

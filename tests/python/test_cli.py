@@ -50,7 +50,12 @@ def test_threads_give_the_same_results(tmp_path):
         result = mps2p("run", "ikari2003_dam_break_air", "--out", str(out), "--until", "0.02",
                        "--threads", threads, "--no-pictures", "--quiet")
         assert result.returncode == 0, result.stderr
-        assert json.loads((out / "summary.json").read_text())["threads"] == float(threads)
+        summary = json.loads((out / "summary.json").read_text())
+        assert summary["threads"] == float(threads)
+        # what the library ran on (2 in an OpenMP build, which CI's is)
+        assert summary["threads_used"] == summary["final"]["threads"] >= 1
+        if threads == "1":
+            assert summary["threads_used"] == 1
         with mps2p_package.open_results(str(out / "results.h5")) as results:
             assert results.parameters["threads"] == float(threads)
             last = results.snapshot(-1)
@@ -329,3 +334,20 @@ def test_a_bad_until_is_bad_input(until):
     result = mps2p("run", "dam_break", "--until", until)
     assert result.returncode == 2 and "--until" in result.stderr and "Traceback" not in \
         result.stderr
+
+
+def test_progress_off_a_terminal_is_a_line_a_tenth(tmp_path):
+    # stderr is a pipe here, as in a log file or CI: a line at each tenth of the
+    # run and at its end, not one per snapshot (30 here)
+    text = open(os.path.join(SCENES, "dam_break.toml")).read()
+    text = text.replace("snapshot_every = 0.05", "snapshot_every = 0.01")
+    scene = tmp_path / "often.toml"
+    scene.write_text(text)
+    result = mps2p("run", str(scene), "--out", str(tmp_path / "out"), "--until", "0.3",
+                   "--no-pictures")
+    assert result.returncode == 0, result.stderr
+    lines = [line for line in result.stderr.splitlines() if "particle-steps/s, ETA" in line]
+    assert 2 <= len(lines) <= 11, result.stderr
+    assert "t = 0.3 / 0.3 s" in lines[-1]
+    reached = [float(line.split("t = ")[1].split(" /")[0]) for line in lines]
+    assert reached == sorted(set(reached))

@@ -7,7 +7,8 @@ import time as clock
 
 class Progress:
     """One line on stderr: time reached, steps, particle-steps per second, ETA.
-    Redrawn in place on a terminal, a line per snapshot otherwise."""
+    Redrawn in place on a terminal; otherwise (a log file, CI) a line at each
+    tenth of the run and at its end, so that a long run's log stays short."""
 
     def __init__(self, end, particles, enabled=True, start=0.0):
         self.end, self.particles, self.enabled = end, particles, enabled
@@ -17,8 +18,9 @@ class Progress:
         self.last_draw = 0.0
         self.first_step = None
         self.written_steps = None  # off a terminal: the step count of the last line
+        self.tenths_written = -1   # off a terminal: the last tenth of the run a line said
 
-    def update(self, solver, snapshot=False, final=False):
+    def update(self, solver, final=False):
         """Redraws (at most five times a second on a terminal); returns False
         so that it can serve as advance_to's progress callback."""
         if not self.enabled:
@@ -28,15 +30,18 @@ class Progress:
         now = clock.perf_counter()
         if self.terminal and not (final or now - self.last_draw > 0.2):
             return False
-        if not self.terminal and not (snapshot or final):
-            return False
-        if not self.terminal and final and solver.step_count == self.written_steps:
-            return False  # the last snapshot's line said it already
+        t, steps = solver.time, solver.step_count
+        done = (t - self.start) / (self.end - self.start) if self.end > self.start else 1.0
+        if not self.terminal:
+            tenths = int(math.floor(10 * min(1.0, max(0.0, done)) + 1e-9))
+            if final and steps == self.written_steps:
+                return False  # the last line said it already
+            if not final and tenths <= self.tenths_written:
+                return False
+            self.tenths_written = tenths
         self.last_draw = now
         wall = now - self.started
-        t, steps = solver.time, solver.step_count
         rate = self.particles * (steps - self.first_step) / wall if wall > 0 else 0.0
-        done = (t - self.start) / (self.end - self.start) if self.end > self.start else 1.0
         eta = wall * (1 - done) / done if done > 0 else float("nan")
         filled = int(30 * min(1.0, max(0.0, done)))
         line = "[%s%s] t = %.4g / %.4g s, %d steps, %.3g particle-steps/s, ETA %s" % (

@@ -157,7 +157,7 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False, threads=
                         bar.update(solver)
                 if t in snapshot_times:
                     snapshot()
-                bar.update(solver, snapshot=t in snapshot_times)
+                bar.update(solver)
         except (errors.DivergedError, errors.SolveError) as e:
             status = "diverged" if isinstance(e, errors.DivergedError) else "failed"
             reason = str(e)
@@ -175,6 +175,7 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False, threads=
         "steps": steps,
         "wall_seconds": wall,
         "threads": scene_file.threads(),
+        "threads_used": solver.stat("threads"),
         "stage_seconds": {k: v["seconds"] for k, v in stages.items() if v["active"]},
         "stage_calls": {k: v["calls"] for k, v in stages.items() if v["active"]},
         "particles": particle_counts(solver, scene_file.fluids),
