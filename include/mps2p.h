@@ -10,7 +10,9 @@
  *   4. results: fields copied into caller buffers, and statistics by name;
  *   5. files and probes: HDF5 results files, checkpoints, point probes;
  *   6. effects and costs: which physical effects are on and why, and the
- *      wall time of each stage of the step.
+ *      wall time of each stage of the step;
+ *   7. coupling: wall bodies and the forces on them, walls a host moves,
+ *      windows of time and saved states (docs/embedding.md).
  *
  * Conventions, everywhere:
  *   - every function that can fail returns an int status: MPS2P_OK (0) on
@@ -441,7 +443,8 @@ MPS2P_API int mps2p_solver_get_last_dt(const mps2p_solver *solver, double *dt);
  *   ppe_analyses       CHOLMOD symbolic analyses so far (a pressure matrix with
  *                      the previous one's pattern reuses its analysis; 0 for cg)
  *   memory_bytes       memory the solver holds (arrays, lists, matrix, solver
- *                      workspace; CHOLMOD's factor is freed after each solve)
+ *                      workspace; CHOLMOD's last factor, kept for the next
+ *                      matrix of the same pattern, included)
  *   diverged_particle  the particle a divergence was found at (its place in the
  *                      kept state is where it started the failed step); -1 when
  *                      the solver has not diverged or the particle is not known
@@ -466,7 +469,8 @@ MPS2P_API int mps2p_solver_get_last_dt(const mps2p_solver *solver, double *dt);
 MPS2P_API int mps2p_solver_get_stat(const mps2p_solver *solver, const char *key,
                                     double *value);
 
-/* The statistics at run time, index 0 to count - 1 in the order above: its
+/* The statistics at run time, index 0 to count - 1 (the solver's, then the
+ * two phases', in the order `mps2p info` lists them): its
  * key for mps2p_solver_get_stat, a one-line description with its unit, and
  * whether it counts something (*is_count 1: a whole number). MPS2P_ERR_INVALID
  * past the last one. Any output pointer may be NULL; the strings are static. */

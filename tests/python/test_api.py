@@ -149,6 +149,9 @@ def test_open_results_refuses_a_checkpoint(tmp_path):
         solver.save_checkpoint(tmp_path / "c.chk")
     with pytest.raises(ValueError, match="not a libmps2p results file"):
         mps2p.open_results(tmp_path / "c.chk")
+    # a file error, as every other file open_results refuses
+    with pytest.raises(mps2p.FileError, match="not a libmps2p results file"):
+        mps2p.open_results(tmp_path / "c.chk")
     assert results_module.SNAPSHOT_FIELDS[0] == "position"
 
 

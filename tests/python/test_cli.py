@@ -291,6 +291,8 @@ def test_a_deeply_nested_array_is_bad_input(tmp_path):
     ({"positions": np.zeros((4, 2)), "kinds": np.zeros(4, dtype=int),
       "fluid_ids": np.full(4, 2 ** 32)}, "out of range for a C int"),
     ({"positions": np.full((4, 2), "a"), "kinds": np.zeros(4, dtype=int)}, "real numbers"),
+    # fluid particles without their fluid (the C library's message named no file)
+    ({"positions": np.zeros((4, 2)), "kinds": np.zeros(4, dtype=int)}, "no array 'fluid_ids'"),
 ])
 def test_particle_files_of_the_wrong_shape_or_kind_are_bad_input(tmp_path, arrays, words):
     np.savez(tmp_path / "p.npz", **arrays)

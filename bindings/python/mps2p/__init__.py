@@ -38,8 +38,9 @@ from . import errors, results
 from ._core import version as _version
 from ._native import header_path, library_path
 from .errors import (BufferError_, DivergedError, Error, FileError, InvalidArgumentError,
-                     MissingFileError, NullArgumentError, OutOfMemoryError, SceneFileError,
-                     SnapWarning, SolveError, StateError, UnknownKeyError)
+                     MissingFileError, NotResultsFileError, NullArgumentError,
+                     OutOfMemoryError, SceneFileError, SnapWarning, SolveError, StateError,
+                     UnknownKeyError)
 from .results import Results, ResultsFile, open_results
 from .scene import KIND_DUMMY, KIND_FLUID, KIND_OUT, KIND_WALL, Scene, option_info, param_info
 from .solver import COUNT_STATS, STAT_KEYS, Solver, State, stat_info
@@ -61,6 +62,7 @@ __all__ = [
     "COUNT_STATS", "KIND_FLUID", "KIND_WALL", "KIND_DUMMY", "KIND_OUT", "Results", "ResultsFile",
     "open_results", "example_names", "example_path", "Error", "NullArgumentError",
     "InvalidArgumentError", "UnknownKeyError", "OutOfMemoryError", "StateError",
-    "BufferError_", "SolveError", "DivergedError", "FileError", "MissingFileError", "SceneFileError",
+    "BufferError_", "SolveError", "DivergedError", "FileError", "MissingFileError",
+    "NotResultsFileError", "SceneFileError",
     "SnapWarning", "errors", "results", "library_path", "header_path", "__version__",
 ]

@@ -58,6 +58,11 @@ class MissingFileError(FileError, FileNotFoundError):
     raises for a missing file."""
 
 
+class NotResultsFileError(FileError, ValueError):
+    """An HDF5 file that is not a results file (a checkpoint, another
+    program's): a FileError that is also the ValueError it used to be."""
+
+
 class SceneFileError(Error, ValueError):
     """A scene file is wrong: the message names the file, the key and the reason."""
 

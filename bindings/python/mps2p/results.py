@@ -6,7 +6,7 @@ import os
 import numpy as np
 
 from ._core import check, encode, encode_path, real
-from .errors import FileError, MissingFileError
+from .errors import FileError, MissingFileError, NotResultsFileError
 from ._native import ffi, lib
 
 
@@ -139,7 +139,7 @@ class ResultsFile:
     def _read_metadata(self):
         f = self._file
         if _text(f.attrs.get("format")) != "libmps2p results":
-            raise ValueError("%s is not a libmps2p results file (format %r)"
+            raise NotResultsFileError("%s is not a libmps2p results file (format %r)"
                              % (self.path, _text(f.attrs.get("format"))))
         lacking = [g for g in ("parameters", "fluids", "snapshots", "series") if g not in f]
         if lacking:
@@ -195,8 +195,8 @@ class ResultsFile:
 def open_results(path):
     """Opens a results file written by Results or `mps2p run` (results.h5)
     for reading: a ResultsFile with str metadata and numpy arrays. Needs
-    h5py. ValueError for an HDF5 file that is not a results file,
-    mps2p.FileError (an OSError) for a missing file (mps2p.MissingFileError,
+    h5py. mps2p.NotResultsFileError (a FileError and a ValueError) for an
+    HDF5 file that is not a results file, mps2p.FileError (an OSError) for a missing file (mps2p.MissingFileError,
     also a FileNotFoundError), one that is not HDF5, one that is damaged (a
     group or attribute of the format missing; snapshot(k) likewise) or one
     that cannot be read."""

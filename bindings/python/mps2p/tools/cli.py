@@ -69,7 +69,8 @@ def parser():
     run_parser.add_argument("--threads", metavar="N", type=_threads, default=None,
                             help="threads of the particle loops (parameter threads; 0 = "
                                  "every core): the same results bit for bit, faster on a "
-                                 "machine with free cores (default: the scene's, else 1)")
+                                 "machine with free cores (default: the scene's, else the "
+                                 "environment variable MPS2P_THREADS, else 1)")
     run_parser.add_argument("--no-pictures", action="store_true",
                             help="write no PNG pictures (faster; no matplotlib needed)")
     run_parser.add_argument("--quiet", action="store_true", help="no progress bar")

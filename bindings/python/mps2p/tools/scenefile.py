@@ -50,7 +50,7 @@ except ModuleNotFoundError:  # Python < 3.11
 import numpy as np
 
 from .. import errors
-from ..scene import Scene
+from ..scene import KIND_FLUID, Scene
 from ..solver import STAT_KEYS
 
 NUMBER = "number"
@@ -283,6 +283,10 @@ class SceneFile:
                 raise self.error(key + ".file", "%s: %s must hold %s, got %s"
                                  % (path, name_, "integers" if integer else "real numbers",
                                     array.dtype))
+        # fluid particles need their fluid (walls and dummies do without)
+        if "fluid_ids" not in arrays and np.any(np.asarray(arrays["kinds"]) == KIND_FLUID):
+            raise self.error(key + ".file", "%s has fluid particles (kinds 0) but no array "
+                             "'fluid_ids'" % path)
         return arrays
 
 
