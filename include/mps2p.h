@@ -428,7 +428,8 @@ MPS2P_API int mps2p_solver_get_last_dt(const mps2p_solver *solver, double *dt);
  * fluid particles in the run, not those of MPS2P_KIND_OUT):
  *   max_speed          largest fluid speed (m/s)
  *   kinetic_energy     sum of m u^2 / 2 over fluid, m = rho l0^2 (J per m depth)
- *   potential_energy   sum of -m g.r over fluid (J per m depth)
+ *   potential_energy   sum of -m g.r over fluid (J per m depth; 0 with effect
+ *                      gravity off)
  *   pressure_min, pressure_max   over fluid and wall particles (Pa)
  *   ppe_unknowns       unknowns of the last pressure solve
  *   ppe_iterations     CG iterations of the last solve (0 for cholmod)

@@ -191,6 +191,20 @@ static void test_quiescent_without_viscosity(void)
     CHECK(speed == 0.0, "a tank without forces moves at %g m/s", speed);
     CHECK(stage_calls(solver, "gravity", NULL) == 0, "gravity ran with zero gravity");
     mps2p_solver_destroy(solver);
+
+    /* gravity switched off, its parameter left at -9.81: nothing may read it
+     * (the walls' hydrostatic ghosts pushed a resting column at 0.02 m/s
+     * after one step, growing) */
+    scene = tank_scene(0.02, 0.2, 0.1);
+    MUST(mps2p_scene_set_option(scene, "effect.gravity", "off"));
+    solver = make(scene);
+    MUST(mps2p_solver_advance_to(solver, 0.5, NULL, NULL));
+    double energy;
+    MUST(mps2p_solver_get_stat(solver, "max_speed", &speed));
+    MUST(mps2p_solver_get_stat(solver, "potential_energy", &energy));
+    CHECK(speed == 0.0, "with effect gravity off a still tank moves at %g m/s", speed);
+    CHECK(energy == 0.0, "with effect gravity off the potential energy is %g", energy);
+    mps2p_solver_destroy(solver);
 }
 
 /* Requests the scene cannot support are refused, naming the effect and why. */

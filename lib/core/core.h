@@ -379,6 +379,16 @@ int effects_decide(mps2p_solver *s);
  * (effects.c; effect two_phase and the two-phase state share the rule). */
 double light_fluid_density(const mps2p_solver *s, double *heaviest);
 const char *effect_name(int effect);
+/* The gravity the step applies: parameter gravity, or none when effect
+ * gravity is off. Everything that reads gravity inside a step (the walls'
+ * hydrostatic ghosts, the damper's time scale, the trigger's speed) reads
+ * this one, so that a tank with the effect off stays still. */
+static inline void gravity_acting(const mps2p_solver *s, double g[2])
+{
+    const int on = s->effect_active[EFFECT_GRAVITY];
+    g[0] = on ? s->params.gravity[0] : 0.0;
+    g[1] = on ? s->params.gravity[1] : 0.0;
+}
 /* ---- memory (memory_limit.c) ---- */
 
 /* Bytes this process can have: physical memory, or less under RLIMIT_AS,

@@ -39,13 +39,15 @@ static double kinetic_energy(const mps2p_solver *s)
 static double potential_energy(const mps2p_solver *s)
 {
     const double area = s->l0 * s->l0;
+    double g[2];
+    gravity_acting(s, g); /* the energy of the forces the step applies */
     double result = 0.0;
     for (size_t i = 0; i < s->count; i++) {
         if (s->kind[i] != MPS2P_KIND_FLUID)
             continue;
         const double *r = &s->state.position[2 * i];
         double m = s->density[i] * area;
-        result -= m * (s->params.gravity[0] * r[0] + s->params.gravity[1] * r[1]);
+        result -= m * (g[0] * r[0] + g[1] * r[1]);
     }
     return result;
 }
@@ -119,7 +121,8 @@ static const stat_entry solver_stats[] = {
     STAT(max_speed, 0, "largest speed of the fluid in the run (m/s)"),
     STAT(kinetic_energy, 0,
          "sum of m u^2 / 2 over the fluid in the run, m = rho l0^2 (J per m depth)"),
-    STAT(potential_energy, 0, "sum of -m g.r over the fluid in the run (J per m depth)"),
+    STAT(potential_energy, 0, "sum of -m g.r over the fluid in the run (J per m depth; 0 "
+                              "with effect gravity off)"),
     STAT(pressure_min, 0, "lowest pressure of the fluid and wall particles (Pa)"),
     STAT(pressure_max, 0, "highest pressure of the fluid and wall particles (Pa)"),
     STAT(ppe_unknowns, 1, "unknowns of the last pressure solve"),

@@ -24,8 +24,10 @@ static void gradient_core(const mps2p_solver *s, size_t i, const double *field, 
     const double re = s->params.re_density * s->l0, re2 = re * re;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *position = s->state.position;
-    const double hx = s->density[i] * s->params.gravity[0];
-    const double hy = s->density[i] * s->params.gravity[1];
+    double g[2];
+    gravity_acting(s, g);
+    const double hx = s->density[i] * g[0];
+    const double hy = s->density[i] * g[1];
     double gx = 0.0, gy = 0.0, xx = 0.0, xy = 0.0, yy = 0.0;
     for (size_t k = nl.start[i]; k < nl.start[i + 1]; k++) {
         size_t j = nl.index[k];

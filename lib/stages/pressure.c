@@ -140,7 +140,9 @@ static size_t fill_row(mps2p_solver *s, const ppe_system *sys, double dt, size_t
     const double c = 2.0 * 2 / (s->lambda * s->n0_laplacian);
     const int whole_list = s->params.ppe_pattern == PPE_PATTERN_NEIGHBOUR_LIST;
     const int ghosts = sys->hydrostatic_ghosts;
-    const double gx = s->params.gravity[0], gy = s->params.gravity[1];
+    double g[2];
+    gravity_acting(s, g);
+    const double gx = g[0], gy = g[1];
     const neighbour_list *nl = &s->neighbours;
     const double *position = s->state.position;
     size_t next = first;

@@ -56,8 +56,9 @@ int interface_scan(mps2p_solver *s, double dt)
     const double *r = s->state.position, *u = s->state.velocity;
     const int walls = s->params.sector_scan_walls != 0.0;
     const double quarter = PI / 4.0;
-    const double closing = s->params.trigger_speed *
-                           sqrt(hypot(s->params.gravity[0], s->params.gravity[1]) * s->l0);
+    double g[2];
+    gravity_acting(s, g);
+    const double closing = s->params.trigger_speed * sqrt(hypot(g[0], g[1]) * s->l0);
     size_t triggered = 0, enclosed = 0;
     PARALLEL_FOR(s->params.threads, schedule(static) reduction(+ : triggered, enclosed),
     for (size_t i = 0; i < s->count; i++) {
