@@ -8,10 +8,8 @@
 
 #include <cholmod.h>
 #include <gsl/gsl_blas.h>
-#include <gsl/gsl_errno.h>
 #include <gsl/gsl_vector.h>
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -44,11 +42,6 @@ struct linear_solver {
     coarse_level *coarse; /* CG with CG_PRECONDITIONER_TWO_LEVEL */
 };
 
-/* GSL's default handler aborts the process, and it is process-wide: turn it
- * off once. libmps2p checks every GSL return value itself. */
-static pthread_once_t gsl_handler_once = PTHREAD_ONCE_INIT;
-static void gsl_handler_off(void) { gsl_set_error_handler_off(); }
-
 int linear_solver_have_gamg(void)
 {
 #ifdef MPS2P_HAVE_PETSC
@@ -61,7 +54,6 @@ int linear_solver_have_gamg(void)
 int linear_solver_create(int kind, int preconditioner, double threads, linear_solver **out,
                          char *message, size_t size)
 {
-    pthread_once(&gsl_handler_once, gsl_handler_off);
     if (kind == PRESSURE_SOLVER_GAMG && !linear_solver_have_gamg()) {
         snprintf(message, size, "pressure_solver gamg: this libmps2p was built without PETSc "
                                 "(meson option petsc)");
@@ -222,7 +214,11 @@ static double combine(const double *partial, size_t blocks, int part)
 }
 
 /* x . y over fixed blocks, each summed in order by GSL, the blocks combined
- * in order: the same bits for any number of threads. */
+ * in order: the same bits for any number of threads. GSL's error handler is
+ * process-wide and the host's to set (its default aborts), so the library
+ * leaves it alone and calls GSL only where it cannot fail: every view here
+ * is non-empty (a block holds 1 to REDUCTION_BLOCK entries) and the two
+ * lengths agree. */
 static double dot(const linear_solver *ls, const double *x, const double *y, size_t n)
 {
     const size_t blocks = block_count(n);
