@@ -272,6 +272,9 @@ int main(void)
            "unknown parameter \"cfll\" (did you mean \"cfl\"?)");
     EXPECT(mps2p_scene_set_param(scene, "collision_distanse", 1.0), MPS2P_ERR_UNKNOWN_KEY,
            "(did you mean \"collision_distance\"?)");
+    /* keys are lower case; a key in capitals is a near miss */
+    EXPECT(mps2p_scene_set_param(scene, "CFL", 0.2), MPS2P_ERR_UNKNOWN_KEY,
+           "unknown parameter \"CFL\" (did you mean \"cfl\"?)");
     EXPECT(mps2p_scene_get_param(scene, "no_such", &value), MPS2P_ERR_UNKNOWN_KEY, "no_such");
     EXPECT(mps2p_scene_set_option(scene, "pressure_solver", "lu"), MPS2P_ERR_INVALID, "\"lu\"");
     MUST(mps2p_scene_get_param(scene, "beta", &value));
