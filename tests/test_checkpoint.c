@@ -437,6 +437,13 @@ static void saving_over_what_is_not_a_file(const char *dir, const mps2p_solver *
           mps2p_last_error());
     CHECK(lstat(target, &seen) != 0, "saving through a dangling link created its target");
     remove(link);
+    /* a folder that is not there: HDF5's reason is passed on (it was "HDF5 gave
+     * no reason": a property list closed before the error was read cleared it) */
+    snprintf(target, sizeof target, "%s/no-such-folder/x.chk", dir);
+    status = mps2p_solver_save_checkpoint(solver, target);
+    CHECK(status == MPS2P_ERR_IO && strstr(mps2p_last_error(), "No such file or directory"),
+          "saving into a missing folder: %s, %s", mps2p_status_string(status),
+          mps2p_last_error());
 }
 
 static herr_t copy_attribute(hid_t from, const char *name, const H5A_info_t *info, void *to)

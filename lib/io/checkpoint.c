@@ -262,10 +262,12 @@ int mps2p_solver_save_checkpoint(const mps2p_solver *s, const char *path)
     hid_t create = H5Pcreate(H5P_FILE_CREATE), file = -1;
     if (create >= 0 && H5Pset_userblock(create, CHECKPOINT_HEADER_SIZE) >= 0)
         file = H5Fcreate(temporary, H5F_ACC_TRUNC, create, H5P_DEFAULT);
+    /* HDF5's reason first: every call (H5Pclose too) clears its error stack */
+    if (file < 0)
+        h5_note(&ctx);
     if (create >= 0)
         H5Pclose(create);
     if (file < 0) {
-        h5_note(&ctx);
         status = h5_fail(&ctx, NULL, "cannot create the temporary file \"%s\"", temporary);
     } else {
         int written = write_root(&ctx, file, s) == 0 && h5_write_parameters(&ctx, file, s) == 0 &&
