@@ -137,8 +137,10 @@ MPS2P_API int mps2p_scene_add_wall_box(mps2p_scene *scene,
 
 /* Walls around the inner region [x0,x1] x [y0,y1]: left, right and bottom,
  * and top unless open_top is non-zero. The walls are ceil(max radius / l0)
- * layers thick for the radii set when this is called (set radii first): the
- * layer facing the inside is MPS2P_KIND_WALL, the layers behind it dummies.
+ * layers thick for the radii set when this is called (set radii first;
+ * mps2p_solver_create refuses radii raised past a tank's layers afterwards,
+ * MPS2P_ERR_INVALID): the layer facing the inside is MPS2P_KIND_WALL, the
+ * layers behind it dummies.
  * Only the walls count against the particle cap and memory_limit. */
 MPS2P_API int mps2p_scene_add_tank(mps2p_scene *scene, double x0, double y0,
                                    double x1, double y1, int open_top);

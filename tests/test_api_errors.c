@@ -88,6 +88,36 @@ static void test_tank_counts_its_walls(void)
     mps2p_scene_destroy(scene);
 }
 
+/* A tank's walls are as thick as the radii when it was added: radii raised
+ * afterwards are refused at the solver's creation (they were taken without a
+ * word and the run went on with walls too thin for its sums). */
+static void test_radii_raised_after_a_tank(void)
+{
+    mps2p_scene *scene = dam_break_scene(0.02);
+    mps2p_solver *solver = NULL;
+    MUST(mps2p_scene_set_param(scene, "re_laplacian", 6.0));
+    EXPECT(mps2p_solver_create(scene, &solver), MPS2P_ERR_INVALID,
+           "a tank's walls are 4 layers thick");
+    CHECK(solver == NULL, "a solver made with walls too thin");
+    CHECK(strstr(mps2p_last_error(), "now need 6") != NULL, "%s", mps2p_last_error());
+    /* lowered: the walls are thicker than needed, which is fine */
+    MUST(mps2p_scene_set_param(scene, "re_laplacian", 2.1));
+    MUST(mps2p_solver_create(scene, &solver));
+    mps2p_solver_destroy(solver);
+    mps2p_scene_destroy(scene);
+    /* set first, the tank is built for them */
+    mps2p_scene *thick;
+    int water;
+    MUST(mps2p_scene_create(0.02, &thick));
+    MUST(mps2p_scene_set_param(thick, "re_laplacian", 6.0));
+    MUST(mps2p_scene_add_fluid(thick, "water", 1000.0, 1e-6, &water));
+    MUST(mps2p_scene_add_fluid_box(thick, water, 0.0, 0.0, 0.16, 0.3));
+    MUST(mps2p_scene_add_tank(thick, 0.0, 0.0, 0.6, 0.7, 1));
+    MUST(mps2p_solver_create(thick, &solver));
+    mps2p_solver_destroy(solver);
+    mps2p_scene_destroy(thick);
+}
+
 /* count is checked against the cap before the arrays are read: here the
  * arrays hold one particle and end at an unreadable page. */
 static void test_count_checked_before_reading(void)
@@ -445,6 +475,7 @@ int main(void)
     test_fluid_names_stay_valid();
     test_far_from_the_origin();
     test_tank_counts_its_walls();
+    test_radii_raised_after_a_tank();
     test_count_checked_before_reading();
     test_last_error_cleared_on_success();
     test_spacing_beyond_a_double();

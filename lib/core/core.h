@@ -254,6 +254,7 @@ struct mps2p_scene {
     int body_count, body_capacity;       /* bodies besides "walls" */
     int has_domain;
     double domain[4];  /* xmin, ymin, xmax, ymax */
+    int tank_layers;   /* the fewest wall layers of a tank added so far; 0: no tank */
     char error[ERROR_MESSAGE_SIZE];
 };
 

@@ -288,7 +288,8 @@ int mps2p_scene_add_tank(mps2p_scene *scene, double x0, double y0, double x1, do
     int status = box_cells(scene, x0, y0, x1, y1, &nx, &ny);
     if (status != MPS2P_OK)
         return status;
-    double t = ceil(params_max_radius(&scene->params) - 1e-9) * scene->l0;
+    const int layers = (int)ceil(params_max_radius(&scene->params) - 1e-9);
+    double t = layers * scene->l0;
     /* Snap the inner box to whole cells so that walls and fluid share a lattice. */
     x1 = x0 + nx * scene->l0;
     y1 = y0 + ny * scene->l0;
@@ -316,6 +317,9 @@ int mps2p_scene_add_tank(mps2p_scene *scene, double x0, double y0, double x1, do
         if (inner)
             scene->kind[i] = MPS2P_KIND_WALL;
     }
+    /* the solver checks the radii against the thinnest tank's walls */
+    if (scene->tank_layers == 0 || layers < scene->tank_layers)
+        scene->tank_layers = layers;
     return MPS2P_OK;
 }
 

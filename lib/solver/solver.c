@@ -317,6 +317,17 @@ int mps2p_solver_create(const mps2p_scene *scene, mps2p_solver **solver)
                             scene->domain[3]);
         }
     }
+    /* a tank's walls are as thick as the radii were when it was added: radii
+     * raised after it would reach past its dummies, and the run would go on
+     * with a wall too thin for its sums, unsaid */
+    const double radius = params_max_radius(&scene->params);
+    if (scene->tank_layers > 0 && (int)ceil(radius - 1e-9) > scene->tank_layers)
+        return fail(NULL, MPS2P_ERR_INVALID,
+                    "a tank's walls are %d layers thick, for the radii set when it was added; "
+                    "re_density %g and re_laplacian %g l0 now need %d: set the radii (or the "
+                    "scheme) before mps2p_scene_add_tank",
+                    scene->tank_layers, scene->params.re_density, scene->params.re_laplacian,
+                    (int)ceil(radius - 1e-9));
     char what[64];
     snprintf(what, sizeof what, "a solver of %zu particles", scene->count);
     int status = memory_check(&scene->params, solver_bytes_estimate(&scene->params, scene->count),

@@ -140,7 +140,7 @@ class Scene(Owned):
         """Walls around the inner region [x0, x1] x [y0, y1] (m): left, right,
         bottom, and top unless open_top (the default: open). They are
         ceil(max radius / l0) layers thick for the radii set so far (set
-        re_density/re_laplacian first):
+        re_density/re_laplacian first: Solver refuses radii raised past them):
         the layer facing the inside is KIND_WALL, the ones behind KIND_DUMMY.
         The inner region is rounded down to whole l0 (SnapWarning)."""
         if not isinstance(open_top, (bool, int, np.bool_)):
