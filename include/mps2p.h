@@ -686,7 +686,9 @@ MPS2P_API int mps2p_solver_set_body_positions(mps2p_solver *solver, int body_id,
 MPS2P_API int mps2p_solver_set_gravity(mps2p_solver *solver, double gx, double gy);
 MPS2P_API int mps2p_solver_get_gravity(const mps2p_solver *solver, double gravity[2]);
 
-/* Per-particle accelerations (m/s^2, 2 per particle, length = 2 * particle
+/* Body forces in the continuum sense, per unit mass, on the fluid (not forces
+ * on this section's wall bodies): per-particle accelerations (m/s^2, 2 per
+ * particle, length = 2 * particle
  * count; entries of non-fluid particles are ignored) added to the fluid in
  * every step, after gravity, until replaced or cleared with NULL. The stage
  * external_forces is in the step only while they are set. */
