@@ -360,10 +360,8 @@ MPS2P_API int mps2p_option_choice(size_t index, size_t choice, const char **name
 typedef struct mps2p_solver mps2p_solver;
 
 /* Builds a solver from a copy of the scene (the scene may then be changed or
- * destroyed). Fails on a scene without fluid particles, on a fluid particle
- * closer than 0.5 l0 to another particle or two solids closer than 0.1 l0,
- * on radii raised past a tank's wall layers after it was added, and on
- * inconsistent parameters (MPS2P_ERR_INVALID, naming what). */
+ * destroyed). Fails on a scene without fluid particles, on particles closer
+ * than 0.1 l0 to each other, and on inconsistent parameters. */
 MPS2P_API int mps2p_solver_create(const mps2p_scene *scene, mps2p_solver **solver);
 /* From the solver's own progress callback: freed when the run returns
  * (see mps2p_progress_fn). */

@@ -352,21 +352,7 @@ int main(void)
     CHECK(solver == NULL, "no solver on failure");
     MUST(mps2p_scene_add_fluid_box(scene, water, 0, 0, 0.1, 0.1));
     MUST(mps2p_scene_add_fluid_box(scene, water, 0.05, 0.05, 0.15, 0.15));
-    EXPECT(mps2p_solver_create(scene, &solver), MPS2P_ERR_INVALID, "closer than 0.5 l0");
-    mps2p_scene_destroy(scene);
-    /* a fluid box half a spacing off another: refused at creation (it used to
-     * diverge at the first step, "pressure beyond the limit") */
-    scene = dam_break_scene(0.01);
-    MUST(mps2p_scene_add_fluid_box(scene, water, 0.005, 0.1, 0.105, 0.2));
-    EXPECT(mps2p_solver_create(scene, &solver), MPS2P_ERR_INVALID, "0.5 l0 apart");
-    CHECK(solver == NULL, "no solver on failure");
-    mps2p_scene_destroy(scene);
-    /* solids may lie closer to each other (not closer than 0.1 l0) */
-    scene = dam_break_scene(0.01);
-    MUST(mps2p_scene_add_wall_box(scene, 0.305, 0.0, 0.355, 0.05));
-    MUST(mps2p_solver_create(scene, &solver));
-    mps2p_solver_destroy(solver);
-    solver = NULL;
+    EXPECT(mps2p_solver_create(scene, &solver), MPS2P_ERR_INVALID, "closer than 0.1 l0");
     mps2p_scene_destroy(scene);
 
     /* a working solver, and bad queries on it */

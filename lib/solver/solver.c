@@ -11,13 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Initial particles closer than these (in l0) are an error: two solids (a
- * wall box reaching into a tank's dummies), or a fluid particle and any other
- * (a fluid box over another box half a spacing off: the first pressure
- * solve answers such a pair with a spike, and the run diverged at its first
- * step, "pressure beyond the limit", saying nothing of the cause). */
-#define CLOSEST_ALLOWED 0.1
-#define CLOSEST_ALLOWED_FLUID 0.5
+#define CLOSEST_ALLOWED 0.1 /* initial particles closer than this (in l0) are an error */
 
 static void solver_free(mps2p_solver *s)
 {
@@ -178,19 +172,18 @@ static void derive_bounds(mps2p_solver *s)
 static int check_spacing(const mps2p_solver *s)
 {
     const neighbour_list *nl = &s->neighbours;
+    const double closest = CLOSEST_ALLOWED * s->l0;
     for (size_t i = 0; i < s->count; i++) {
         for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {
             size_t j = nl->index[k];
-            const int fluid = s->kind[i] == MPS2P_KIND_FLUID || s->kind[j] == MPS2P_KIND_FLUID;
-            const double allowed = fluid ? CLOSEST_ALLOWED_FLUID : CLOSEST_ALLOWED;
             double d = hypot(s->state.position[2 * j] - s->state.position[2 * i],
                              s->state.position[2 * j + 1] - s->state.position[2 * i + 1]);
-            if (j > i && d < allowed * s->l0)
+            if (j > i && d < closest)
                 return fail(NULL, MPS2P_ERR_INVALID,
                             "particles %zu and %zu are %g l0 apart at (%g, %g), closer than "
                             "%g l0 (overlapping boxes?)",
                             i, j, d / s->l0, s->state.position[2 * i],
-                            s->state.position[2 * i + 1], allowed);
+                            s->state.position[2 * i + 1], CLOSEST_ALLOWED);
         }
     }
     return MPS2P_OK;
