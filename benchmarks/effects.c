@@ -206,7 +206,9 @@ int main(int argc, char **argv)
         double other = 1e6 * results[e].total / (double)results[e].steps;
         double on = effects[e][0] == '+' ? other : with, off = effects[e][0] == '+' ? with : other;
         printf("| %s | %.1f | %.1f %% | %.1f%s |\n", effect, own, 100.0 * own / on, on - off,
-               results[e].diverged_at >= 0.0 ? " (without it the run diverged)" : "");
+               results[e].diverged_at < 0.0 ? ""
+               : effects[e][0] == '+'       ? " (with it the run diverged)"
+                                            : " (without it the run diverged)");
     }
 
     /* what the stage timers cost: two clock reads per stage per step */

@@ -457,7 +457,9 @@ MPS2P_API int mps2p_solver_get_last_dt(const mps2p_solver *solver, double *dt);
  *                      run (MPS2P_KIND_OUT; parameter out_limit)
  *   threads            threads the particle loops run on: parameter threads,
  *                      or OpenMP's default for 0 (OMP_NUM_THREADS, else the
- *                      cores); 1 in a build without OpenMP
+ *                      cores); 1 in a build without OpenMP or when asked
+ *                      inside a host's OpenMP parallel region (where the
+ *                      loops run on one thread); as the calling thread sees it
  * With two phases (0 when effect two_phase is off): gas_triggered (light
  *   particles with delta_al = 1 in the last step), gas_enclosed (heavy
  *   particles in all 8 sectors), gas_joined (reacting), gas_pressure_max (Pa,

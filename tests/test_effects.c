@@ -207,6 +207,46 @@ static void test_quiescent_without_viscosity(void)
     mps2p_solver_destroy(solver);
 }
 
+/* A bubble joined to the liquid rises by buoyancy, so not without gravity:
+ * an air pocket in still water with effect gravity off stays put (it rose
+ * along +y at the drift's 0.2 m/s, "up" taken from the parameter). */
+static void test_no_rise_without_gravity(void)
+{
+    mps2p_scene *scene;
+    int water, air;
+    MUST(mps2p_scene_create(0.01, &scene));
+    MUST(mps2p_scene_add_fluid(scene, "water", 1000.0, 1e-6, &water));
+    MUST(mps2p_scene_add_fluid(scene, "air", 1.2, 1.5e-5, &air));
+    MUST(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.0, 0.2, 0.05));
+    MUST(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.05, 0.08, 0.09));
+    MUST(mps2p_scene_add_fluid_box(scene, water, 0.12, 0.05, 0.2, 0.09));
+    MUST(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.09, 0.2, 0.2));
+    MUST(mps2p_scene_add_fluid_box(scene, air, 0.08, 0.05, 0.12, 0.09));
+    MUST(mps2p_scene_add_tank(scene, 0.0, 0.0, 0.2, 0.3, 1));
+    MUST(mps2p_scene_set_option(scene, "effect.gravity", "off"));
+    mps2p_solver *solver = make(scene);
+    MUST(mps2p_solver_advance_to(solver, 0.05, NULL, NULL));
+    size_t n;
+    MUST(mps2p_solver_particle_count(solver, &n));
+    double *velocity = malloc(2 * n * sizeof *velocity);
+    int *ids = malloc(n * sizeof *ids), *kinds = malloc(n * sizeof *kinds);
+    CHECK(velocity && ids && kinds, "out of memory");
+    MUST(mps2p_solver_get_velocities(solver, velocity, 2 * n));
+    MUST(mps2p_solver_get_fluid_ids(solver, ids, n));
+    MUST(mps2p_solver_get_kinds(solver, kinds, n));
+    double fastest = 0.0, joined;
+    for (size_t i = 0; i < n; i++)
+        if (kinds[i] == MPS2P_KIND_FLUID && ids[i] == air)
+            fastest = fmax(fastest, fabs(velocity[2 * i + 1]));
+    MUST(mps2p_solver_get_stat(solver, "gas_joined", &joined));
+    CHECK(joined > 0, "the pocket did not join the liquid: the test tests nothing");
+    CHECK(fastest < 0.01, "without gravity an air pocket moves at %g m/s vertically", fastest);
+    free(velocity);
+    free(ids);
+    free(kinds);
+    mps2p_solver_destroy(solver);
+}
+
 /* Requests the scene cannot support are refused, naming the effect and why. */
 static void test_impossible_requests(void)
 {
@@ -514,6 +554,7 @@ int main(void)
     test_memory_follows_stages();
     test_switched_off();
     test_quiescent_without_viscosity();
+    test_no_rise_without_gravity();
     test_impossible_requests();
     test_inferred_equals_requested();
     test_two_phase_effects();

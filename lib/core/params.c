@@ -2,7 +2,6 @@
 #include "numerics/numerics.h"
 #include "core/core.h"
 
-#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -97,7 +96,8 @@ static const param_entry table[] = {
     {"join_enclosed", FIELD(join_enclosed), 1.0, 0.0, 1.0,
      "1 = light particles with heavy ones in all 8 sectors react as triggered ones"},
     {"bubble_rise_velocity", FIELD(bubble_rise_velocity), 0.2, 0.0, 100.0,
-     "rise velocity of a joined light particle relative to the liquid, m/s (drift)"},
+     "rise velocity of a joined light particle relative to the liquid, against gravity, m/s "
+     "(drift; none without gravity)"},
     {"bubble_relaxation_time", FIELD(bubble_relaxation_time), 0.02, 1e-9, 1e6,
      "relaxation time of a joined light particle's slip toward the rise velocity, s (drift)"},
     {"join_ramp_time", FIELD(join_ramp_time), 0.0, 0.0, 1e6,
@@ -197,6 +197,9 @@ static const param_entry *find(const char *key)
 /* Edit distance (insertions, deletions, substitutions) of two short keys;
  * longer keys than KEY_MAX count as far from everything. */
 #define KEY_MAX 64
+/* not tolower: the keys are ASCII, and a locale must not change the match */
+static char ascii_lower(char c) { return c >= 'A' && c <= 'Z' ? (char)(c - 'A' + 'a') : c; }
+
 static size_t edit_distance(const char *a, const char *b)
 {
     size_t n = strlen(a), m = strlen(b);
@@ -210,9 +213,8 @@ static size_t edit_distance(const char *a, const char *b)
         row[0] = i;
         for (size_t j = 1; j <= m; j++) {
             size_t above = row[j];
-            /* case does not count: "CFL" is a slip for "cfl" */
-            size_t best = diagonal + (tolower((unsigned char)a[i - 1]) !=
-                                      tolower((unsigned char)b[j - 1]));
+            /* ASCII case does not count: "CFL" is a slip for "cfl" */
+            size_t best = diagonal + (ascii_lower(a[i - 1]) != ascii_lower(b[j - 1]));
             if (above + 1 < best)
                 best = above + 1;
             if (row[j - 1] + 1 < best)

@@ -182,9 +182,9 @@ int interface_drift_apply(mps2p_solver *s, double dt)
     double *r = s->state.position, *u = s->state.velocity;
     const double *gravity = s->params.gravity;
     double up[2];
-    gravity_up(s, up);
+    /* the rise is buoyancy's: none without gravity */
+    const double rise = gravity_up(s, up) ? s->params.bubble_rise_velocity : 0.0;
     const int gravity_on = s->effect_active[EFFECT_GRAVITY];
-    const double rise = s->params.bubble_rise_velocity;
     const double relax = 1.0 - exp(-dt / s->params.bubble_relaxation_time);
     /* a drift bubble reads only liquid neighbours, whom this loop never moves */
     PARALLEL_FOR(s->params.threads, schedule(static),

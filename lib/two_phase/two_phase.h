@@ -122,11 +122,13 @@ void light_flood(mps2p_solver *s, unsigned char *reached, int skip_with_liquid);
 size_t gas_in_liquid_count(const mps2p_solver *s);     /* gas_in_liquid.c */
 /* A light particle with more heavy-fluid than light-fluid neighbours within re. */
 int more_liquid_than_light_neighbours(const mps2p_solver *s, size_t i);
-/* "Up", against gravity: returns 1 with up = -g / |g|, or 0 with up = (0, 1)
- * when there is no gravity. */
+/* "Up", against the gravity the step applies (gravity_acting): returns 1 with
+ * up = -g / |g|, or 0 with up = (0, 1) when there is none (zero, or effect
+ * gravity off). */
 static inline int gravity_up(const mps2p_solver *s, double up[2])
 {
-    const double *g = s->params.gravity;
+    double g[2];
+    gravity_acting(s, g);
     double size = hypot(g[0], g[1]);
     int have = size > 0.0;
     up[0] = have ? -g[0] / size : 0.0;
