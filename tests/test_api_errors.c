@@ -351,8 +351,23 @@ int main(void)
     EXPECT(mps2p_solver_create(scene, &solver), MPS2P_ERR_STATE, "no fluid particles");
     CHECK(solver == NULL, "no solver on failure");
     MUST(mps2p_scene_add_fluid_box(scene, water, 0, 0, 0.1, 0.1));
-    MUST(mps2p_scene_add_fluid_box(scene, water, 0.05, 0.05, 0.15, 0.15));
-    EXPECT(mps2p_solver_create(scene, &solver), MPS2P_ERR_INVALID, "closer than 0.1 l0");
+    EXPECT(mps2p_scene_add_fluid_box(scene, water, 0.05, 0.05, 0.15, 0.15), MPS2P_ERR_INVALID,
+           "overlaps particles 0 to 99, a fluid box [0, 0, 0.1, 0.1] added before");
+    /* half a spacing off: no two particles in one place, and the run used to
+     * diverge at its first step ("pressure beyond the limit") */
+    EXPECT(mps2p_scene_add_fluid_box(scene, water, 0.095, 0.005, 0.195, 0.105),
+           MPS2P_ERR_INVALID, "boxes may touch, not overlap");
+    MUST(mps2p_scene_add_fluid_box(scene, water, 0.1, 0.0, 0.2, 0.1)); /* touching */
+    MUST(mps2p_scene_particle_count(scene, &count));
+    CHECK(count == 200, "refused boxes added particles: %zu", count);
+    /* a tank whose wall runs through a fluid box: refused whole */
+    EXPECT(mps2p_scene_add_tank(scene, 0.05, 0.0, 0.3, 0.3, 1), MPS2P_ERR_INVALID,
+           "the solid box");
+    MUST(mps2p_scene_particle_count(scene, &count));
+    CHECK(count == 200, "a refused tank added particles: %zu", count);
+    MUST(mps2p_scene_add_tank(scene, 0.0, 0.0, 0.3, 0.3, 1));
+    /* solids over solids are allowed (a wall box into a tank's wall) */
+    MUST(mps2p_scene_add_wall_box(scene, 0.25, -0.02, 0.3, 0.05));
     mps2p_scene_destroy(scene);
 
     /* a working solver, and bad queries on it */

@@ -255,6 +255,15 @@ struct mps2p_scene {
     int has_domain;
     double domain[4];  /* xmin, ymin, xmax, ymax */
     int tank_layers;   /* the fewest wall layers of a tank added so far; 0: no tank */
+    /* every box filled so far (fluid boxes, wall boxes, a tank's walls), as
+     * filled (snapped to whole cells): a fluid box may touch another box but
+     * not overlap it (scene.c) */
+    struct placed_box {
+        double x0, y0, x1, y1;
+        int fluid;           /* 1: a fluid box */
+        size_t first, count; /* its particles */
+    } *boxes;
+    size_t box_count, box_capacity;
     char error[ERROR_MESSAGE_SIZE];
 };
 

@@ -86,12 +86,17 @@ def test_wrong_files_name_the_file_key_and_reason(tmp_path, change, key, reason)
 
 
 @pytest.mark.parametrize("change, named", [
-    # a fluid box reaching into the tank's wall (the library finds two particles
-    # in one place), and two fluid boxes over each other
+    # a fluid box reaching into the tank's wall, two fluid boxes over each other
+    # (the library refuses a box over an earlier one: boxes may touch), and the
+    # same half a spacing off, where no two particles share a place (the run
+    # diverged at its first step)
     (("box = [0.0, 0.0, 0.16, 0.3]", "box = [0.4, 0.0, 0.7, 0.2]"),
-     "fluid_box[0] overlaps tank[0]: particles"),
+     "tank[0] overlaps fluid_box[0]: the solid box"),
     (("[[tank]]", "[[fluid_box]]\nfluid = \"water\"\nbox = [0.1, 0.1, 0.2, 0.2]\n[[tank]]"),
-     "fluid_box[0] overlaps fluid_box[1]: particles"),
+     "fluid_box[1] overlaps fluid_box[0]: the fluid box"),
+    (("[[tank]]", "[[fluid_box]]\nfluid = \"water\"\nbox = [0.105, 0.105, 0.205, 0.205]\n"
+                  "[[tank]]"),
+     "fluid_box[1] overlaps fluid_box[0]: the fluid box"),
 ])
 def test_overlapping_items_are_named(tmp_path, change, named):
     assert change[0] in GOOD

@@ -179,6 +179,12 @@ class SceneFile:
                 try:
                     result = function(*args)
                 except (errors.Error, TypeError, ValueError) as e:
+                    # a box over an earlier one: name the item that added it
+                    found = re.search(r"overlaps particles (\d+) to ", str(e))
+                    other = found and next((k for k, end in self._added
+                                            if int(found.group(1)) < end), None)
+                    if other:
+                        raise self.error("%s overlaps %s" % (key, other), str(e)) from e
                     raise self.error(key, str(e)) from e
             self._added.append((key, scene.particle_count))
             for w in caught:  # the same warning, naming the file and key
@@ -220,8 +226,8 @@ class SceneFile:
         """A fluid box wholly outside every tank (beside it, under its floor,
         over a closed top) is allowed, but no wall holds its fluid (under
         gravity it falls out of the domain): said before the run, not 0.3 s
-        into it. (A box reaching into a wall is refused by the library: two
-        particles in one place.)"""
+        into it. (A box reaching into a wall is refused by the library: boxes
+        may touch, not overlap.)"""
         tanks = self.data.get("tank", [])
         if not tanks or self.data.get("wall_box") or self.data.get("particles"):
             return  # walls of the file's own (boxes, particle files) may hold it
