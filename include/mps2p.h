@@ -666,6 +666,15 @@ MPS2P_API int mps2p_solver_get_body_ids(const mps2p_solver *solver, int *out, si
 MPS2P_API int mps2p_solver_body_force(const mps2p_solver *solver, int body_id, int fluid_id,
                                       double force[2], double *moment, const double about[2]);
 
+/* The same force particle by particle, for a host whose structure deforms:
+ * loads[2 i], loads[2 i + 1] = p_i l0 n_i (N/m) for each wall particle i of
+ * the body (as mps2p_solver_body_force counts it, fluid_id the same), 0 for
+ * every other particle; length at least 2 * particle count. Summed over the
+ * body's particles in index order they give mps2p_solver_body_force's F,
+ * bit for bit. */
+MPS2P_API int mps2p_solver_get_wall_loads(const mps2p_solver *solver, int body_id, int fluid_id,
+                                          double *loads, size_t length);
+
 /* Sets the body's rigid motion from the next step on, until changed: its
  * particles move with u = velocity + angular_velocity x (r - about) (rad/s,
  * counter-clockwise positive), positions advanced by the exact rotation and

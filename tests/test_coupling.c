@@ -299,9 +299,72 @@ static void test_window(void)
     mps2p_solver_destroy(solver);
 }
 
+static void expect_error(int status, int code, const char *fragment)
+{
+    CHECK(status == code, "returned %s, expected %s", mps2p_status_string(status),
+          mps2p_status_string(code));
+    CHECK(strstr(mps2p_last_error(), fragment) != NULL, "message \"%s\" lacks \"%s\"",
+          mps2p_last_error(), fragment);
+}
+
+/* Per-particle wall loads: the body force's terms, particle by particle:
+ * summed over each body in index order they are its force, bit for bit;
+ * zero off the body; the checks of the force call. */
+static void test_wall_loads(void)
+{
+    int piston;
+    mps2p_solver *solver = piston_tank(&piston);
+    size_t n;
+    MUST(mps2p_solver_particle_count(solver, &n));
+    const double speed[2] = {0.1, 0.0};
+    MUST(mps2p_solver_set_body_motion(solver, piston, speed, 0.0, NULL));
+    for (int k = 0; k < 20; k++)
+        MUST(mps2p_solver_step(solver));
+    double *loads = malloc(2 * n * sizeof *loads);
+    int *body = malloc(n * sizeof *body);
+    CHECK(loads && body, "out of memory");
+    MUST(mps2p_solver_get_body_ids(solver, body, n));
+    const int bodies[2] = {0, piston};
+    for (int b = 0; b < 2; b++) {
+        for (int fluid = -1; fluid <= 0; fluid++) {
+            double force[2], sum[2] = {0.0, 0.0};
+            size_t loaded = 0, stray = 0;
+            MUST(mps2p_solver_body_force(solver, bodies[b], fluid, force, NULL, NULL));
+            MUST(mps2p_solver_get_wall_loads(solver, bodies[b], fluid, loads, 2 * n));
+            for (size_t i = 0; i < n; i++) {
+                int nonzero = loads[2 * i] != 0.0 || loads[2 * i + 1] != 0.0;
+                if (body[i] != bodies[b]) {
+                    stray += nonzero;
+                    continue;
+                }
+                loaded += nonzero;
+                sum[0] += loads[2 * i];
+                sum[1] += loads[2 * i + 1];
+            }
+            CHECK(sum[0] == force[0] && sum[1] == force[1],
+                  "body %d, fluid %d: loads sum to (%.17g, %.17g), the force is (%.17g, %.17g)",
+                  bodies[b], fluid, sum[0], sum[1], force[0], force[1]);
+            CHECK(loaded > 0 && stray == 0, "body %d: %zu loaded, %zu off the body", bodies[b],
+                  loaded, stray);
+        }
+    }
+    expect_error(mps2p_solver_get_wall_loads(solver, piston, -1, loads, 2 * n - 1), MPS2P_ERR_BUFFER,
+           "2 per particle");
+    expect_error(mps2p_solver_get_wall_loads(solver, piston, -1, NULL, 2 * n), MPS2P_ERR_NULL,
+           "loads is NULL");
+    expect_error(mps2p_solver_get_wall_loads(solver, piston, 7, loads, 2 * n), MPS2P_ERR_INVALID,
+           "no fluid with id 7");
+    expect_error(mps2p_solver_get_wall_loads(solver, 9, -1, loads, 2 * n), MPS2P_ERR_INVALID, "9");
+    expect_error(mps2p_solver_get_wall_loads(NULL, 0, -1, loads, 2 * n), MPS2P_ERR_NULL, "NULL");
+    free(loads);
+    free(body);
+    mps2p_solver_destroy(solver);
+}
+
 int main(void)
 {
     test_window();
+    test_wall_loads();
     test_at_rest_is_bitwise_unchanged();
     test_piston();
     test_gravity_and_forces();

@@ -360,6 +360,45 @@ static int wall_force(const mps2p_solver *s, size_t i, int fluid_id, double f[2]
     return 1;
 }
 
+/* The fluid id of the force calls: -1 (all) or a fluid of the solver. */
+static int check_fluid_of_force(const mps2p_solver *s, int fluid_id, const char *function)
+{
+    if (fluid_id < -1 || fluid_id >= s->fluid_count)
+        return fail(NULL, MPS2P_ERR_INVALID, "%s: no fluid with id %d (the solver has %d; -1 = all)",
+                    function, fluid_id, s->fluid_count);
+    return MPS2P_OK;
+}
+
+int mps2p_solver_get_wall_loads(const mps2p_solver *s, int body_id, int fluid_id, double *loads,
+                                size_t length)
+{
+    error_clear();
+    int status = check_body(s, body_id, "mps2p_solver_get_wall_loads");
+    if (status == MPS2P_OK && !loads)
+        status = fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_get_wall_loads: loads is NULL");
+    if (status == MPS2P_OK)
+        status = check_fluid_of_force(s, fluid_id, "mps2p_solver_get_wall_loads");
+    if (status == MPS2P_OK && length < 2 * s->count)
+        status = fail(NULL, MPS2P_ERR_BUFFER,
+                      "wall loads: buffer holds %zu elements, %zu needed (2 per particle)",
+                      length, 2 * s->count);
+    if (status != MPS2P_OK)
+        return status;
+    memset(loads, 0, 2 * s->count * sizeof *loads);
+    /* the terms mps2p_solver_body_force sums, in its order */
+    const body *b = &s->coupling->bodies[body_id];
+    for (size_t m = 0; m < b->particles; m++) {
+        size_t i = b->member[m];
+        double f[2];
+        if (s->kind[i] != MPS2P_KIND_WALL || s->state.pressure[i] == 0.0 ||
+            !wall_force(s, i, fluid_id, f))
+            continue;
+        loads[2 * i] = f[0];
+        loads[2 * i + 1] = f[1];
+    }
+    return MPS2P_OK;
+}
+
 int mps2p_solver_body_force(const mps2p_solver *s, int body_id, int fluid_id, double force[2],
                             double *moment, const double about[2])
 {
@@ -369,10 +408,9 @@ int mps2p_solver_body_force(const mps2p_solver *s, int body_id, int fluid_id, do
         return status;
     if (!force)
         return fail(NULL, MPS2P_ERR_NULL, "mps2p_solver_body_force: force output is NULL");
-    if (fluid_id < -1 || fluid_id >= s->fluid_count)
-        return fail(NULL, MPS2P_ERR_INVALID,
-                    "mps2p_solver_body_force: no fluid with id %d (the solver has %d; -1 = all)",
-                    fluid_id, s->fluid_count);
+    status = check_fluid_of_force(s, fluid_id, "mps2p_solver_body_force");
+    if (status != MPS2P_OK)
+        return status;
     if (about && (!isfinite(about[0]) || !isfinite(about[1])))
         return fail(NULL, MPS2P_ERR_INVALID,
                     "mps2p_solver_body_force: moment point (%g, %g) is not finite", about[0],

@@ -31,6 +31,16 @@ def test_bodies_force_motion_gravity_windows():
         assert force[0] > 0  # the water pushes the right wall outwards
         water_part, _ = solver.body_force(piston, fluid_id=0)
         assert np.allclose(water_part, force)
+        # the same force particle by particle (a deforming structure's loads)
+        loads = solver.wall_loads(piston)
+        assert loads.shape == (solver.particle_count, 2)
+        assert not loads[ids != piston].any() and loads[ids == piston].any()
+        total = np.zeros(2)
+        for row in loads[ids == piston]:  # in index order, as body_force sums
+            total += row
+        assert (total == force).all()
+        with pytest.raises(mps2p.InvalidArgumentError):
+            solver.wall_loads(piston, fluid_id=3)
         before = solver.positions()[ids == piston]
         solver.set_body_motion(piston, velocity=(-0.05, 0.0))
         solver.advance_window(0.12)

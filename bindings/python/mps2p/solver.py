@@ -284,6 +284,14 @@ class Solver(Owned):
                                           index(fluid_id, "fluid_id"), force, moment, point))
         return np.array([force[0], force[1]]), moment[0]
 
+    def wall_loads(self, body_id, fluid_id=-1):
+        """(n, 2) float64: p_i l0 n_i (N/m) on each wall particle of the body,
+        the terms of body_force's force (their sum over the body, in index
+        order, is it exactly); 0 for every other particle."""
+        body_id, fluid_id = index(body_id, "body_id"), index(fluid_id, "fluid_id")
+        return self._field(lambda handle, out, size: lib.mps2p_solver_get_wall_loads(
+            handle, body_id, fluid_id, out, size), np.float64, 2)
+
     def set_body_motion(self, body_id, velocity=(0.0, 0.0), angular_velocity=0.0,
                         about=(0.0, 0.0)):
         """Rigid motion of the body from the next step on (m/s, rad/s about `about`)."""
