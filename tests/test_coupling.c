@@ -359,6 +359,18 @@ static void test_wall_loads(void)
     free(loads);
     free(body);
     mps2p_solver_destroy(solver);
+
+    /* a divergence at a body's particle names the body (a host's gate) */
+    solver = piston_tank(&piston);
+    const double away[2] = {0.0, 40.0};
+    MUST(mps2p_solver_set_body_motion(solver, piston, away, 0.0, NULL));
+    int status = MPS2P_OK;
+    for (int k = 0; k < 400 && status == MPS2P_OK; k++)
+        status = mps2p_solver_step(solver);
+    CHECK(status == MPS2P_ERR_DIVERGED, "the piston flung away: %s", mps2p_status_string(status));
+    CHECK(strstr(mps2p_last_error(), "of body \"piston\"") != NULL, "message: %s",
+          mps2p_last_error());
+    mps2p_solver_destroy(solver);
 }
 
 int main(void)

@@ -7,15 +7,23 @@
 #include "numerics/numerics.h"
 #include "core/core.h"
 #include "stages/stages.h"
+#include "coupling/coupling.h"
 
 #include <math.h>
 #include <stdio.h>
 
-static const char *describe(const mps2p_solver *s, size_t i)
+/* What particle i is, for a message: its fluid's name, or a wall and, past
+ * body 0 ("walls"), the body it belongs to (a host's moving gate). */
+static const char *describe(const mps2p_solver *s, size_t i, char *text, size_t size)
 {
     if (kind_is_fluid(s->kind[i]))
         return s->fluids[s->fluid_id[i]].name;
-    return s->kind[i] == MPS2P_KIND_WALL ? "wall" : "dummy wall";
+    const char *what = s->kind[i] == MPS2P_KIND_WALL ? "wall" : "dummy wall";
+    const int body = s->coupling ? s->coupling->body_of[i] : 0;
+    if (body <= 0)
+        return what;
+    snprintf(text, size, "%s of body \"%s\"", what, s->coupling->bodies[body].name);
+    return text;
 }
 
 /* Remembers where a divergence was found (statistic diverged_particle). */
@@ -33,11 +41,12 @@ static int outside(const mps2p_solver *s, double x, double y)
 static int left_the_domain(mps2p_solver *s, size_t i, double t, const char *why)
 {
     const double *r = s->state.position, *u = s->state.velocity;
+    char label[96];
     return diverged_at(s, i, fail(s->error, MPS2P_ERR_DIVERGED,
                 "diverged at step %llu, t = %.6g s: particle %zu (%s) left the domain "
                 "[%g, %g] x [%g, %g] at (%g, %g), speed %g m/s%s",
-                (unsigned long long)s->steps + 1, t, i, describe(s, i), s->domain[0],
-                s->domain[2], s->domain[1], s->domain[3], r[2 * i], r[2 * i + 1],
+                (unsigned long long)s->steps + 1, t, i, describe(s, i, label, sizeof label),
+                s->domain[0], s->domain[2], s->domain[1], s->domain[3], r[2 * i], r[2 * i + 1],
                 hypot(u[2 * i], u[2 * i + 1]), why));
 }
 
@@ -72,6 +81,7 @@ int divergence_check(mps2p_solver *s, double dt)
     const double jump2_within = isfinite(jump * jump) ? jump * jump * (1.0 - 1e-12) : 0.0;
     const double t = s->time + dt;
     const unsigned long long step = (unsigned long long)s->steps + 1;
+    char label[96];
     /* fluid at the start: in the run or out of it (kinds only turn FLUID to OUT) */
     size_t fluid = 0, leaving = 0, first_leaving = 0;
     for (size_t i = 0; i < s->count; i++) {
@@ -86,7 +96,8 @@ int divergence_check(mps2p_solver *s, double dt)
             return diverged_at(s, i, fail(s->error, MPS2P_ERR_DIVERGED,
                         "diverged at step %llu, t = %.6g s: particle %zu (%s) has a "
                         "non-finite value (position (%g, %g), velocity (%g, %g), p = %g)",
-                        step, t, i, describe(s, i), x, y, u[2 * i], u[2 * i + 1], p[i]));
+                        step, t, i, describe(s, i, label, sizeof label), x, y, u[2 * i],
+                        u[2 * i + 1], p[i]));
         if (outside(s, x, y)) {
             if (s->kind[i] != MPS2P_KIND_FLUID) /* a moving body's particle */
                 return left_the_domain(s, i, t, "");
@@ -97,7 +108,8 @@ int divergence_check(mps2p_solver *s, double dt)
             return diverged_at(s, i, fail(s->error, MPS2P_ERR_DIVERGED,
                         "diverged at step %llu, t = %.6g s: particle %zu (%s) at (%g, %g) "
                         "has pressure %g Pa, beyond the limit %g Pa",
-                        step, t, i, describe(s, i), x, y, p[i], s->pressure_limit));
+                        step, t, i, describe(s, i, label, sizeof label), x, y, p[i],
+                        s->pressure_limit));
         double dx = x - before[2 * i], dy = y - before[2 * i + 1];
         /* hypot (slow) only near or past the limit: below the squared bound
          * the distance is surely within it */
@@ -106,7 +118,7 @@ int divergence_check(mps2p_solver *s, double dt)
             return diverged_at(s, i, fail(s->error, MPS2P_ERR_DIVERGED,
                         "diverged at step %llu, t = %.6g s: particle %zu (%s) jumped %g l0 "
                         "in one step, to (%g, %g) (limit %g l0)",
-                        step, t, i, describe(s, i), moved / s->l0, x, y,
+                        step, t, i, describe(s, i, label, sizeof label), moved / s->l0, x, y,
                         s->params.displacement_limit));
     }
     if (leaving == 0)
