@@ -122,10 +122,9 @@ MPS2P_API int mps2p_scene_get_fluid(const mps2p_scene *scene, int fluid_id,
 
 /* Fills the box [x0,x1] x [y0,y1] with fluid particles on the square lattice
  * of spacing l0, at cell centres x0 + (i + 1/2) l0. A side that is not a
- * whole number of l0 is rounded down to one. Boxes may touch but not
- * overlap: a fluid box over any box added before, or a wall box or tank wall
- * over a fluid box, is refused (MPS2P_ERR_INVALID, naming both; solids may
- * overlap solids). Coordinates (here and in every
+ * whole number of l0 is rounded down to one. Boxes (fluid and wall boxes,
+ * a tank's walls, which lie outside its box) may touch but not overlap: a
+ * box over one added before is refused (MPS2P_ERR_INVALID, naming both). Coordinates (here and in every
  * function that adds particles) must lie within 1e9 l0 of the origin, where
  * a double still resolves 2.2e-7 l0 (MPS2P_ERR_INVALID beyond: lattice
  * sites would merge). */

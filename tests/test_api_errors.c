@@ -366,8 +366,10 @@ int main(void)
     MUST(mps2p_scene_particle_count(scene, &count));
     CHECK(count == 200, "a refused tank added particles: %zu", count);
     MUST(mps2p_scene_add_tank(scene, 0.0, 0.0, 0.3, 0.3, 1));
-    /* solids over solids are allowed (a wall box into a tank's wall) */
-    MUST(mps2p_scene_add_wall_box(scene, 0.25, -0.02, 0.3, 0.05));
+    /* a wall box reaching into the tank's floor, which lies outside its box */
+    EXPECT(mps2p_scene_add_wall_box(scene, 0.25, -0.02, 0.3, 0.05), MPS2P_ERR_INVALID,
+           "the solid box [0.25, -0.02, 0.3, 0.05] overlaps particles");
+    MUST(mps2p_scene_add_wall_box(scene, 0.25, 0.0, 0.3, 0.05)); /* on the floor */
     mps2p_scene_destroy(scene);
 
     /* a working solver, and bad queries on it */

@@ -67,7 +67,7 @@ static void walls_may_not_leave(void)
     int status = step_until_failure(solver, 400);
     const char *message = mps2p_solver_last_error(solver);
     printf("message: %s\n", message);
-    CHECK(status == MPS2P_ERR_DIVERGED && strstr(message, "wall) left the domain"),
+    CHECK(status == MPS2P_ERR_DIVERGED && strstr(message, "(wall of body \"lid\") left the domain"),
           "a lid leaving the domain: %s: %s", mps2p_status_string(status), message);
     mps2p_solver_destroy(solver);
 }

@@ -243,20 +243,19 @@ static int check_box(mps2p_scene *scene, double x0, double y0, double x1, double
     return status;
 }
 
-/* A fluid box over another box, or a solid box over a fluid box, puts
- * particles inside each other: over the same lattice two in one place,
- * half a spacing off a pair the first pressure solve answers with a spike
- * (the run diverged at its first step, "pressure beyond the limit", saying
- * nothing of the cause). Boxes may touch. Particles added as arrays are
- * not boxes and are not checked here (the solver refuses two in one place). */
+/* A box over another puts particles inside each other: on the same lattice
+ * two in one place (refused at the solver's creation, naming two particle
+ * numbers), half a spacing off a pair the first pressure solve answers with
+ * a spike (the run diverged at its first step, "pressure beyond the limit",
+ * saying nothing of the cause). Boxes may touch; a tank's walls lie outside
+ * its box. Particles added as arrays are not boxes and are not checked here
+ * (the solver refuses two in one place). */
 static int check_overlap(mps2p_scene *scene, int fluid, double x0, double y0, double x1,
                          double y1)
 {
     const double touch = 1e-6 * scene->l0;
     for (size_t k = 0; k < scene->box_count; k++) {
         const struct placed_box *b = &scene->boxes[k];
-        if (!fluid && !b->fluid)
-            continue; /* solids may overlap solids (a wall box into a tank's wall) */
         double w = fmin(x1, b->x1) - fmax(x0, b->x0), h = fmin(y1, b->y1) - fmax(y0, b->y0);
         if (w > touch && h > touch)
             return fail(scene->error, MPS2P_ERR_INVALID,

@@ -353,3 +353,19 @@ def test_progress_off_a_terminal_is_a_line_a_tenth(tmp_path):
     assert "t = 0.3 / 0.3 s" in lines[-1]
     reached = [float(line.split("t = ")[1].split(" /")[0]) for line in lines]
     assert reached == sorted(set(reached))
+
+
+def test_a_run_into_an_earlier_runs_folder_leaves_none_of_its_files(tmp_path):
+    # an earlier run's divergence.png or front.png beside new results would read
+    # as theirs; the folder's other files are the user's and stay
+    out = tmp_path / "out"
+    out.mkdir()
+    stale = ["divergence.png", "front.png", "velocity_air.png", "series.csv", "summary.json"]
+    for name in stale + ["notes.txt"]:
+        (out / name).write_text("earlier")
+    result = mps2p("run", "dam_break", "--until", "0.01", "--out", str(out), "--no-pictures",
+                   "--quiet")
+    assert result.returncode == 0, result.stderr
+    left = sorted(os.listdir(out))
+    assert left == ["notes.txt", "results.h5", "results.xdmf", "series.csv", "summary.json"]
+    assert (out / "summary.json").read_text() != "earlier"

@@ -103,6 +103,7 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False, threads=
     solver = scene_file.make_solver()
     try:
         make_output_folder(out_dir)
+        clear_previous_run(out_dir)
     except errors.Error:
         solver.close()
         raise
@@ -250,6 +251,28 @@ def make_output_folder(path):
                                % (path, e.strerror or e)) from None
     if not os.access(path, os.W_OK | os.X_OK):
         raise errors.FileError("output folder %s: not writable" % path)
+
+
+# What a run writes: a run into a folder that holds an earlier run's removes
+# these first, so that no earlier picture (a divergence.png, a front.png the
+# new scene does not draw) sits beside the new results as if it were theirs.
+RUN_FILES = ("summary.json", "series.csv", "results.h5", "results.xdmf", "snapshots.png",
+             "snapshots_phase.png", "series.png", "front.png", "divergence.png")
+
+
+def clear_previous_run(path):
+    """Removes the files an earlier run wrote into path (RUN_FILES and the
+    velocity_<fluid>.png pictures); nothing else in the folder."""
+    names = [n for n in os.listdir(path)
+             if n in RUN_FILES or (n.startswith("velocity_") and n.endswith(".png"))]
+    for name in names:
+        target = os.path.join(path, name)
+        if os.path.isfile(target) or os.path.islink(target):
+            try:
+                os.remove(target)
+            except OSError as e:
+                raise errors.FileError("output folder %s: cannot remove the earlier run's %s: %s"
+                                       % (path, name, e.strerror or e)) from None
 
 
 def _merged(snapshot_times, series_times, end):
