@@ -302,6 +302,11 @@ int main(void)
            "unknown parameter \"cfll\" (did you mean \"cfl\"?)");
     EXPECT(mps2p_scene_set_param(scene, "collision_distanse", 1.0), MPS2P_ERR_UNKNOWN_KEY,
            "(did you mean \"collision_distance\"?)");
+    /* no near miss: a name holding the key, or sharing its first word */
+    EXPECT(mps2p_scene_set_option(scene, "solver", "cg"), MPS2P_ERR_UNKNOWN_KEY,
+           "(did you mean \"pressure_solver\"?)");
+    EXPECT(mps2p_scene_set_param(scene, "excitation_amplitude", 1.0), MPS2P_ERR_UNKNOWN_KEY,
+           "(did you mean \"excitation_acceleration\"?)");
     /* keys are lower case; a key in capitals is a near miss */
     EXPECT(mps2p_scene_set_param(scene, "CFL", 0.2), MPS2P_ERR_UNKNOWN_KEY,
            "unknown parameter \"CFL\" (did you mean \"cfl\"?)");

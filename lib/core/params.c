@@ -239,8 +239,26 @@ void near_miss(const char *key, const char *(*name_at)(size_t), size_t count, ch
         }
     }
     size_t allowed = strlen(key) / 3 > 2 ? strlen(key) / 3 : 2;
-    if (nearest && best <= allowed)
+    if (nearest && best <= allowed) {
         snprintf(out, size, " (did you mean \"%s\"?)", nearest);
+        return;
+    }
+    /* no near miss: a name that holds the key ("solver" in "pressure_solver"),
+     * else one that starts with the key's first word ("excitation_amplitude":
+     * "excitation_acceleration") */
+    const size_t length = strlen(key);
+    const char *underscore = strchr(key, '_');
+    const size_t word = underscore ? (size_t)(underscore - key) : 0;
+    const char *holds = NULL, *shares = NULL;
+    for (size_t i = 0; i < count && length >= 4; i++) {
+        const char *name = name_at(i);
+        if (!holds && strstr(name, key))
+            holds = name;
+        if (!shares && word >= 4 && strncmp(name, key, word + 1) == 0)
+            shares = name;
+    }
+    if (holds || shares)
+        snprintf(out, size, " (did you mean \"%s\"?)", holds ? holds : shares);
     else if (size > 0)
         out[0] = '\0';
 }

@@ -270,3 +270,19 @@ def test_effects_table_switches_effects(tmp_path):
     assert summary["effects"]["collision"] == {
         "active": False, "reason": "requested: off; collision_distance is 0.995 l0"}
     assert "collision" not in summary["stage_seconds"]
+
+
+@pytest.mark.parametrize("text, words", [
+    # a parameter written outside [parameters]
+    ("gravity_y = -9.81\n" + GOOD, "gravity_y: gravity_y is one of the library's parameters: "
+                                   "put it under [parameters]"),
+    ("pressure_solver = \"cg\"\n" + GOOD, "put it under [options]"),
+    # a probe type misspelt
+    (GOOD + "[[probe]]\nname = \"p\"\ntype = \"presure\"\nat = [0.1, 0.01]\n",
+     "did you mean pressure?"),
+])
+def test_misplaced_settings_and_misspelt_probe_types_say_what_is_meant(tmp_path, text, words):
+    path = write(tmp_path, text)
+    with pytest.raises(mps2p.SceneFileError) as caught:
+        scenefile.load(path)
+    assert words in str(caught.value), str(caught.value)

@@ -50,7 +50,7 @@ except ModuleNotFoundError:  # Python < 3.11
 import numpy as np
 
 from .. import errors
-from ..scene import KIND_FLUID, Scene
+from ..scene import KIND_FLUID, Scene, option_info, param_info
 from ..solver import STAT_KEYS
 
 NUMBER = "number"
@@ -355,7 +355,14 @@ def check(path, data):
 
     known = set(SCHEMA) | {"parameters", "options", "effects"}
     for key in data:
-        if key not in known:
+        if key in known:
+            continue
+        # a setting written outside its table: say where it belongs
+        where = ("parameters" if key in param_info() else
+                 "options" if key in option_info() else None)
+        if where:
+            fail(key, "%s is one of the library's %s: put it under [%s]" % (key, where, where))
+        else:
             fail(key, "unknown table%s (known: %s)"
                  % (_did_you_mean(key, known), ", ".join(sorted(known))))
     if "run" not in data:
@@ -472,7 +479,8 @@ def _check_probes(fail, probes, fluid_names):
         seen.add(p["name"])
         kind = p["type"]
         if kind not in PROBE_KEYS:
-            fail(label + ".type", "must be one of %s, got %r" % (sorted(PROBE_KEYS), kind))
+            fail(label + ".type", "must be one of %s, got %r%s"
+                 % (sorted(PROBE_KEYS), kind, _did_you_mean(str(kind), PROBE_KEYS)))
             continue
         extra = set(p) - {"name", "type"} - PROBE_KEYS[kind]
         if extra:
