@@ -369,3 +369,40 @@ def test_a_run_into_an_earlier_runs_folder_leaves_none_of_its_files(tmp_path):
     left = sorted(os.listdir(out))
     assert left == ["notes.txt", "results.h5", "results.xdmf", "series.csv", "summary.json"]
     assert (out / "summary.json").read_text() != "earlier"
+
+
+def test_a_wave_gauge_reads_the_waters_top(tmp_path):
+    # the dam break's column (0.15 m x 0.3 m, l0 0.01): at x = 0.05 the gauge reads
+    # the column's height at the start and less as it collapses; beyond the
+    # front (x = 0.5) there is no water yet: no value (nan, no row in results.h5)
+    text = open(os.path.join(SCENES, "dam_break.toml")).read()
+    text += ('\n[[probe]]\nname = "gauge"\ntype = "elevation"\nfluid = "water"\nx = 0.05\n'
+             '\n[[probe]]\nname = "dry"\ntype = "elevation"\nfluid = "water"\nx = 0.5\n'
+             'half_width = 0.005\n')
+    scene = tmp_path / "gauged.toml"
+    scene.write_text(text)
+    out = tmp_path / "out"
+    result = mps2p("run", str(scene), "--until", "0.15", "--out", str(out), "--no-pictures",
+                   "--quiet")
+    assert result.returncode == 0, result.stderr
+    import csv
+    with open(out / "series.csv") as f:
+        rows = list(csv.DictReader(f))
+    gauge = [float(r["gauge"]) for r in rows]
+    assert gauge[0] == pytest.approx(0.3, abs=1e-9)
+    assert 0.1 < gauge[-1] < 0.28
+    assert all(r["dry"] in ("nan", "") for r in rows)
+    with mps2p_package.open_results(str(out / "results.h5")) as results:
+        assert results.series["gauge"].shape[0] == len(rows)
+        assert "dry" not in results.series or results.series["dry"].shape[0] == 0
+
+
+def test_elevation_probes_are_checked(tmp_path):
+    text = open(os.path.join(SCENES, "dam_break.toml")).read()
+    text += ('\n[[probe]]\nname = "gauge"\ntype = "elevation"\nfluid = "water"\n'
+             'half_width = -1\n')
+    scene = tmp_path / "bad.toml"
+    scene.write_text(text)
+    result = mps2p("check", str(scene))
+    assert result.returncode == 2 and "needs ['x']" in result.stderr and \
+        "half_width: must be > 0" in result.stderr, result.stderr

@@ -211,6 +211,8 @@ def probe_label(probe):
                                                      probe["at"][1])
     if kind == "front":
         return "%s\nsurge front x (m)" % probe["name"]
+    if kind == "elevation":
+        return "%s\nsurface at x = %g m (m)" % (probe["name"], probe["x"])
     if kind == "count":
         return "%s\n%s particles" % (probe["name"], probe["fluid"])
     what = "%s (%s)" % (probe["stat"], STAT_UNITS.get(probe["stat"], "particles"))

@@ -30,7 +30,7 @@ class Probes:
 
     def sample(self, solver):
         values = []
-        fluid_ids = None
+        fluid_ids = positions = None
         for p in self.entries:
             kind = p["type"]
             if kind == "pressure":
@@ -41,6 +41,17 @@ class Probes:
                                                p.get("below", 2 * self.l0)))
                 except errors.InvalidArgumentError:
                     values.append(float("nan"))  # no particle of that fluid low enough
+            elif kind == "elevation":
+                # a wave gauge: the top of the fluid's particles within
+                # half_width of x, plus half a spacing (the water's top); nan
+                # where none is (dry)
+                if positions is None:
+                    positions, kinds = solver.positions(), solver.kinds()
+                    fluid_ids = solver.fluid_ids()
+                near = ((kinds == KIND_FLUID) & (fluid_ids == self.fluid_ids[p["fluid"]]) &
+                        (np.abs(positions[:, 0] - p["x"]) <= p.get("half_width", self.l0)))
+                values.append(float(positions[near, 1].max()) + 0.5 * self.l0
+                              if near.any() else float("nan"))
             elif kind == "count":
                 if fluid_ids is None:
                     fluid_ids = solver.fluid_ids()

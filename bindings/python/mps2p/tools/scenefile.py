@@ -32,6 +32,8 @@ Layout (every table is optional unless marked):
       type = "pressure"         #   at = [x, y]
       type = "front"            #   fluid = "water", below = 0.02 (m); optional
                                 #   compare = "martin_moyce_1952", column_width = 0.15
+      type = "elevation"        #   fluid = "water", x = 0.3 (m): a wave gauge, the top of
+                                #   the fluid there; optional half_width (m, default l0)
       type = "count"            #   fluid = "water": its particles (all, not only in the domain)
       type = "stat"             #   stat = "kinetic_energy" (any solver statistic)
 """
@@ -72,12 +74,13 @@ SCHEMA = {
     "wall_box": ({"box": BOX}, {"box"}),
     "particles": ({"file": STRING}, {"file"}),
     "probe": ({"name": STRING, "type": STRING, "at": POINT, "fluid": STRING,
-               "below": NUMBER, "stat": STRING, "compare": STRING, "column_width": NUMBER},
+               "below": NUMBER, "stat": STRING, "compare": STRING, "column_width": NUMBER,
+               "x": NUMBER, "half_width": NUMBER},
               {"name", "type"}),
 }
 ARRAYS_OF_TABLES = ("fluid", "fluid_box", "tank", "wall_box", "particles", "probe")
 PROBE_KEYS = {"pressure": {"at"}, "front": {"fluid", "below", "compare", "column_width"},
-              "count": {"fluid"}, "stat": {"stat"}}
+              "elevation": {"fluid", "x", "half_width"}, "count": {"fluid"}, "stat": {"stat"}}
 FRONT_REFERENCES = ("martin_moyce_1952",)
 # Probe names become HDF5 series names (lib/io/results_file.c: 1 to 64 of these).
 PROBE_NAME = re.compile(r"^[A-Za-z0-9_-][A-Za-z0-9_.-]{0,63}$")
@@ -496,6 +499,10 @@ def _check_probes(fail, probes, fluid_names):
                      % (list(FRONT_REFERENCES), p["compare"]))
             if "column_width" in p and not p["column_width"] > 0:
                 fail(label + ".column_width", "must be > 0, got %r" % p["column_width"])
+        if kind == "elevation":
+            missing -= {"half_width"}
+            if "half_width" in p and not p["half_width"] > 0:
+                fail(label + ".half_width", "must be > 0, got %r" % p["half_width"])
         if missing:
             fail(label, "a %s probe needs %s" % (kind, sorted(missing)))
             continue
