@@ -286,3 +286,22 @@ def test_misplaced_settings_and_misspelt_probe_types_say_what_is_meant(tmp_path,
     with pytest.raises(mps2p.SceneFileError) as caught:
         scenefile.load(path)
     assert words in str(caught.value), str(caught.value)
+
+
+@pytest.mark.parametrize("at, warned", [
+    ("[0.31, 0.02]", "inside wall_box[0]"),          # inside the obstacle
+    ("[0.7, 0.02]", "outside every tank"),           # beyond the right wall (x1 = 0.6)
+    ("[0.29, 0.02]", None),                          # in front of the obstacle's face
+])
+def test_pressure_probes_out_of_the_fluid_are_warned_of(tmp_path, at, warned):
+    text = GOOD + ("[[wall_box]]\nbox = [0.3, 0.0, 0.34, 0.06]\n"
+                   "[[probe]]\nname = \"p\"\ntype = \"pressure\"\nat = %s\n" % at)
+    path = write(tmp_path, text)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        scenefile.load(path).build().close()
+    said = [str(w.message) for w in caught if "probe[0]" in str(w.message)]
+    if warned:
+        assert len(said) == 1 and warned in said[0], said
+    else:
+        assert not said, said

@@ -215,6 +215,7 @@ class SceneFile:
         for i, t in enumerate(self.data.get("tank", [])):
             call("tank[%d]" % i, scene.add_tank, *t["box"], t.get("open_top", True))
         self._warn_boxes_outside_tanks()
+        self._warn_probes_out_of_the_fluid()
         for i, w in enumerate(self.data.get("wall_box", [])):
             call("wall_box[%d]" % i, scene.add_wall_box, *w["box"])
         for i, p in enumerate(self.data.get("particles", [])):
@@ -245,6 +246,31 @@ class SceneFile:
                 warnings.warn("%s: fluid_box[%d]: %s lies outside every tank: no wall holds "
                               "its fluid" % (self.path, i, list(b["box"])),
                               UserWarning, stacklevel=4)
+
+    def _warn_probes_out_of_the_fluid(self):
+        """A pressure probe reads the fluid's pressure around its point: 0 inside
+        a wall box or outside every tank (a tank's walls lie outside its box),
+        for the whole run, which reads like a quiet gauge. Said when built."""
+        tanks, walls = self.data.get("tank", []), self.data.get("wall_box", [])
+
+        def inside(point, box, open_top=False):
+            x0, y0, x1, y1 = box
+            return x0 < point[0] < x1 and y0 < point[1] and (open_top or point[1] < y1)
+
+        for i, p in enumerate(self.data.get("probe", [])):
+            if p.get("type") != "pressure":
+                continue
+            where = next((j for j, w in enumerate(walls) if inside(p["at"], w["box"])), None)
+            if where is not None:
+                warnings.warn("%s: probe[%d]: %s lies inside wall_box[%d]: a pressure probe "
+                              "reads the fluid's pressure, 0 inside a wall (a wall gauge goes "
+                              "half a spacing in front of the wall's face)"
+                              % (self.path, i, list(p["at"]), where), UserWarning, stacklevel=4)
+            elif tanks and not self.data.get("particles") and not any(
+                    inside(p["at"], t["box"], t.get("open_top", True)) for t in tanks):
+                warnings.warn("%s: probe[%d]: %s lies outside every tank (its walls lie "
+                              "outside its box): it reads 0 unless fluid comes there"
+                              % (self.path, i, list(p["at"])), UserWarning, stacklevel=4)
 
     def _read_particles(self, key, name):
         path = name if os.path.isabs(name) else os.path.join(os.path.dirname(self.path), name)
