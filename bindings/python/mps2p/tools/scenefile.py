@@ -52,7 +52,7 @@ except ModuleNotFoundError:  # Python < 3.11
 import numpy as np
 
 from .. import errors
-from ..scene import KIND_FLUID, Scene, option_info, param_info
+from ..scene import KIND_FLUID, Scene, setting_kind
 from ..solver import STAT_KEYS
 
 NUMBER = "number"
@@ -387,8 +387,11 @@ def check(path, data):
         if key in known:
             continue
         # a setting written outside its table: say where it belongs
-        where = ("parameters" if key in param_info() else
-                 "options" if key in option_info() else None)
+        try:
+            kind = setting_kind(key)
+        except Exception:  # no library to ask: no hint
+            kind = None
+        where = kind and kind + "s"
         if where:
             fail(key, "%s is one of the library's %s: put it under [%s]" % (key, where, where))
         else:
@@ -543,7 +546,6 @@ def _check_probes(fail, probes, fluid_names):
 def _elsewhere(key, kind):
     """A hint when `key` is a known parameter (kind "parameter") or option
     ("option") of the library, which belongs in the other table."""
-    from ..scene import setting_kind
     try:
         if setting_kind(key) != kind:
             return ""
