@@ -330,9 +330,12 @@ static int wall_normal(const mps2p_solver *s, size_t i, const double fluid_side[
 }
 
 /* Force on wall particle i: p_i l0 n_i, times the share of fluid_id's weight
- * in sum_j w_ij over fluid neighbours j. */
+ * in sum_j w_ij over fluid neighbours j; 0 (none) for a dummy, a wall at p =
+ * 0 or one without fluid neighbours. */
 static int wall_force(const mps2p_solver *s, size_t i, int fluid_id, double f[2])
 {
+    if (s->kind[i] != MPS2P_KIND_WALL || s->state.pressure[i] == 0.0)
+        return 0;
     const double re = s->params.re_density * s->l0;
     const double *r = s->state.position;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
@@ -390,8 +393,7 @@ int mps2p_solver_get_wall_loads(const mps2p_solver *s, int body_id, int fluid_id
     for (size_t m = 0; m < b->particles; m++) {
         size_t i = b->member[m];
         double f[2];
-        if (s->kind[i] != MPS2P_KIND_WALL || s->state.pressure[i] == 0.0 ||
-            !wall_force(s, i, fluid_id, f))
+        if (!wall_force(s, i, fluid_id, f))
             continue;
         loads[2 * i] = f[0];
         loads[2 * i + 1] = f[1];
@@ -421,8 +423,7 @@ int mps2p_solver_body_force(const mps2p_solver *s, int body_id, int fluid_id, do
     for (size_t m = 0; m < b->particles; m++) {
         size_t i = b->member[m];
         double f[2];
-        if (s->kind[i] != MPS2P_KIND_WALL || s->state.pressure[i] == 0.0 ||
-            !wall_force(s, i, fluid_id, f))
+        if (!wall_force(s, i, fluid_id, f))
             continue;
         total[0] += f[0];
         total[1] += f[1];
