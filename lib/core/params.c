@@ -87,7 +87,7 @@ static const param_entry table[] = {
      "a fluid lighter than this fraction of the heaviest is light (two-phase)"},
     {"sector_scan_walls", FIELD(sector_scan_walls), 1.0, 0.0, 1.0,
      "1 = wall particles count as heavy (velocity 0) in the 8-sector scan"},
-    {"trigger_speed", FIELD(trigger_speed), 0.05, 0.0, 100.0,
+    {"trigger_speed", FIELD(trigger_speed), 1.0, 0.0, 100.0,
      "the 8-sector scan triggers when opposite sectors close faster than trigger_speed "
      "sqrt(|g| l0) (gravity's size, so 0 without gravity); 0 = the paper's u_a < u_{a+4}"},
     {"join_bubbles", FIELD(join_bubbles), 1.0, 0.0, 1.0,

@@ -10,8 +10,11 @@
  * particles and u_a < u_{a+4}, here u_a + trigger_speed sqrt(|g| l0) <
  * u_{a+4}: the paper's strict inequality fires on the velocity noise of
  * liquid at rest (in still water under air, about half of the air's bottom
- * row every step; docs/two-phase.md), and the threshold keeps it to
- * closing liquid. Walls and dummies count as heavy particles at
+ * row every step; docs/two-phase.md), and the threshold, a speed of the
+ * particle scale (trigger_speed 1), keeps it to liquid closing faster than
+ * it settles: at 0.05 the air under a droplet settling onto the water
+ * joined the liquid's solve and held the droplet up for up to a second
+ * (docs/two-phase.md, the ladder). Walls and dummies count as heavy particles at
  * rest when sector_scan_walls = 1 (the default: the gas is pinched against
  * walls at impact, which a liquid-only scan misses), but a pair that closes
  * only with a wall in it triggers a light particle inside the liquid only

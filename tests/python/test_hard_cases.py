@@ -74,30 +74,16 @@ def test_drop_into_pool_passes_every_check():
 def test_hard_case_passes_every_check_at_a_modest_resolution(name):
     """The column onto a wet bed (to 1.5 s) and the shaken tank (to 4 s,
     4.4 periods), both with air, at l0 = 0.015 m (CI's time; the acceptance
-    run below has the scenes' 0.01 m, where the wet bed fails since session
-    13, docs/two-phase.md): every check of mps2p.tools.stability
+    run below has the scenes' 0.01 m): every check of mps2p.tools.stability
     to the end, gas above the tank's walls counted as gone. Both held by the
-    gas's damping layer at its top (docs/two-phase.md, rungs 5 and 6). The
-    wet bed at this spacing passed 8 of 8 runs perturbed in dt and the
-    solver's tolerances in session 13, 5 of 6 on 2026-12-04 (dt 1.5e-4 s: a
-    water particle over the left wall at 1.15 s; docs/two-phase.md); it was
-    a known failure with Jacobi."""
+    gas's damping layer at its top (docs/two-phase.md, rungs 5 and 6)."""
     report = check_run(scene(name), l0=0.015, options=IMPROVED)
     assert report["status"] == "ok", (report["reason"], report["violations"])
     assert report["time"] == pytest.approx(report["end_time"])
 
 
-WET_BED_POCKET = pytest.mark.xfail(
-    strict=True, reason="measured (docs/two-phase.md, the ladder's rung 5): at l0 = 0.01 m "
-    "the wet bed passes 5 of 8 runs perturbed in dt and tolerances; as shipped (dt 2e-4 s) a "
-    "water particle kicked where the surge closes an air pocket against the right wall "
-    "leaves over the left wall at 0.695 s")
-
-
 @acceptance
-@pytest.mark.parametrize("name", ["ikari2003_dam_break_air",
-                                  pytest.param("wet_bed_air", marks=WET_BED_POCKET),
-                                  "sloshing_air"])
+@pytest.mark.parametrize("name", ["ikari2003_dam_break_air", "wet_bed_air", "sloshing_air"])
 def test_improved_model_is_stable(name):
     report = check_run(scene(name), options=IMPROVED)
     assert report["status"] == "ok", (report["reason"], report["violations"])

@@ -6,7 +6,7 @@ asserted by tests/python/test_two_phase_ladder.py.
     python3 -m mps2p.tools.ladder --results out/ikari2003_dam_break_air/results.h5
 
 prints each rung's measures as JSON (rungs: still_water_under_air,
-droplet_in_air, bubble_rise_4x4, bubble_rise_8x8, dam_break_front,
+droplet_in_air, droplet_settles, bubble_rise_4x4, bubble_rise_8x8, dam_break_front,
 paper_case, gas_thrown_up, droplet_thrown_up, void_in_gas, tip_into_wall), or
 with --results rung 4's of a run of the paper's case
 (`mps2p run`'s results.h5): water suspended in the air and the widest hole in
@@ -275,6 +275,46 @@ def gas_thrown_up(speed=3.0, until=0.3, buffer=True, sample_every=0.005, path=No
                 "tank_top_above_gas_top": (ty1 - gas_top) / l0,
                 "most_gas_outside_tank": most_out, "out_of_run": s.stat("fluid_out"),
                 "thrown_velocity_at_end": float(s.velocities()[thrown, 1])}
+
+def droplet_settles(gap=2.0, until=0.5, sample_every=0.0025, path=None):
+    """Under rung 2 (and under rung 3's stragglers): rung 2's pool under air,
+    with a droplet of one particle released at rest `gap` spacings above the
+    pool's top row (the air's site there left out). Reports when it touches
+    the pool (its centre within one spacing above the highest pool particle
+    within 1.5 l0 to either side), against the free fall's time to get
+    there. Air squeezed under a single droplet, joined to the liquid's solve
+    as the paper's cushion, held droplets over the surface for a second
+    (docs/two-phase.md, "A droplet held up by the air under it")."""
+    from ..solver import Solver
+    path = path or scene_path("droplet_in_air")
+    sf = scenefile.load(path)
+    l0 = sf.l0
+    x, y = 0.145, 0.095 + gap * l0  # the pool's top row's centres are at 0.095 m
+    data = dict(sf.data)
+    data["fluid_box"] = _pool_under_air_around((x - 0.5 * l0, y - 0.5 * l0,
+                                                x + 0.5 * l0, y + 0.5 * l0))
+    sf = scenefile.SceneFile(path, sf.text, data)
+    water_id = sf.fluids.index("water")
+    with sf.build() as scene:
+        scene.add_particles([(x, y)], [0], [water_id], [[0.0, 0.0]])
+        s = Solver(scene)
+    with s:
+        r0, kinds, ids = s.positions(), s.kinds(), s.fluid_ids()
+        water = (kinds == KIND_FLUID) & (ids == water_id)
+        drop = int(np.flatnonzero(water & (r0[:, 1] > y - 0.25 * l0))[0])
+        pool = water.copy()
+        pool[drop] = False
+        touched = None
+        for k in range(1, int(round(until / sample_every)) + 1):
+            s.advance_to(k * sample_every)
+            r = s.positions()
+            below = pool & (np.abs(r[:, 0] - r[drop, 0]) < 1.5 * l0)
+            if r[drop, 1] - r[below, 1].max() < l0 * (1.0 + 1e-9):
+                touched = s.time
+                break
+    return {"gap": gap, "touched_at": touched,
+            "free_fall": math.sqrt(2.0 * (gap - 1.0) * l0 / G)}
+
 
 def _pool_under_air_around(site):
     """Rung 2's fluid boxes (a 0.1 m pool under air to 0.6 m, 0.3 m wide)
@@ -650,6 +690,8 @@ def paper_case(until=10.0, path=None, parameters=None, sample_every=0.005,
 RUNGS = {
     "still_water_under_air": lambda until: still_water_under_air(until=until or 10.0),
     "droplet_in_air": lambda until: droplet_in_air(),
+    "droplet_settles": lambda until: [droplet_settles(gap=g, until=until or 0.5)
+                                      for g in (2.0, 3.0, 5.0)],
     "bubble_rise_4x4": lambda until: bubble_rise("bubble_rise_4x4", until=until or 2.0),
     "bubble_rise_8x8": lambda until: bubble_rise("bubble_rise_8x8", until=until or 2.0),
     "dam_break_front": lambda until: dam_break_front(until=until or 0.2),
