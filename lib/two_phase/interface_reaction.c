@@ -13,7 +13,7 @@
  * row every step; docs/two-phase.md), and the threshold, a speed of the
  * particle scale (trigger_speed 1), keeps it to liquid closing faster than
  * it settles: at 0.05 the air under a droplet settling onto the water
- * joined the liquid's solve and held the droplet up for up to a second
+ * joined the liquid's solve and held the droplet up for over half a second
  * (docs/two-phase.md, the ladder). Walls and dummies count as heavy particles at
  * rest when sector_scan_walls = 1 (the default: the gas is pinched against
  * walls at impact, which a liquid-only scan misses), but a pair that closes

@@ -103,7 +103,7 @@ def test_gas_thrown_up_stays_in_the_tank():
 def test_splash_wake_in_the_gas_closes():
     """Under rung 4's holes: a 3 x 3 water droplet thrown up at 4 m/s
     through 0.35 m of air leaves no hole in the gas wider than 1.5 l0 behind
-    it before it reaches the gas's damping layer (1.35 l0 measured, 1.21
+    it before it reaches the gas's damping layer (1.38 l0 measured on 2026-12-04, 1.21
     before a void's edge's deficit was capped at beta n0's; 3.51 l0 when a
     void's edge was free surface and the gas's negative pressures were
     clamped, docs/two-phase.md)."""
@@ -137,7 +137,7 @@ def test_slab_into_wall_throws_no_jet_faster_than_twice_its_speed(air):
     """Under rung 5's spray: a water slab 3 l0 deep sliding at 2.5 m/s into
     a wall turns up it with no water particle rising faster than twice the
     slab's speed, and the fastest faster than the slab itself (a jet), with
-    air around it and without (4.4 and 4.0 m/s measured; the
+    air around it and without (3.9 m/s both, measured on 2026-12-04; the
     wet bed's surge tip was kicked to 2.7 times its speed at l0 = 0.01 m;
     slabs 6-10 l0 deep reach 2.1-2.6 without air: docs/two-phase.md)."""
     m = ladder.tip_into_wall(air=air, speed=2.5)
