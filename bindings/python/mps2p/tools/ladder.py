@@ -276,6 +276,7 @@ def gas_thrown_up(speed=3.0, until=0.3, buffer=True, sample_every=0.005, path=No
                 "most_gas_outside_tank": most_out, "out_of_run": s.stat("fluid_out"),
                 "thrown_velocity_at_end": float(s.velocities()[thrown, 1])}
 
+
 def droplet_settles(gap=2.0, until=0.5, sample_every=0.0025, path=None):
     """Under rung 2 (and under rung 3's stragglers): rung 2's pool under air,
     with a droplet of one particle released at rest `gap` spacings above the
@@ -283,17 +284,14 @@ def droplet_settles(gap=2.0, until=0.5, sample_every=0.0025, path=None):
     the pool (its centre within one spacing above the highest pool particle
     within 1.5 l0 to either side), against the free fall's time to get
     there. Air squeezed under a single droplet, joined to the liquid's solve
-    as the paper's cushion, held droplets over the surface for a second
+    as the paper's cushion, held droplets over the surface for over half a second
     (docs/two-phase.md, "A droplet held up by the air under it")."""
     from ..solver import Solver
     path = path or scene_path("droplet_in_air")
     sf = scenefile.load(path)
     l0 = sf.l0
     x, y = 0.145, 0.095 + gap * l0  # the pool's top row's centres are at 0.095 m
-    data = dict(sf.data)
-    data["fluid_box"] = _pool_under_air_around((x - 0.5 * l0, y - 0.5 * l0,
-                                                x + 0.5 * l0, y + 0.5 * l0))
-    sf = scenefile.SceneFile(path, sf.text, data)
+    sf = _pool_under_air_around(sf, (x - 0.5 * l0, y - 0.5 * l0, x + 0.5 * l0, y + 0.5 * l0))
     water_id = sf.fluids.index("water")
     with sf.build() as scene:
         scene.add_particles([(x, y)], [0], [water_id], [[0.0, 0.0]])
@@ -316,15 +314,18 @@ def droplet_settles(gap=2.0, until=0.5, sample_every=0.0025, path=None):
             "free_fall": math.sqrt(2.0 * (gap - 1.0) * l0 / G)}
 
 
-def _pool_under_air_around(site):
-    """Rung 2's fluid boxes (a 0.1 m pool under air to 0.6 m, 0.3 m wide)
-    with the air left out of the box site = (x0, y0, x1, y1)."""
+def _pool_under_air_around(sf, site, **tables):
+    """Scene file sf (rung 2's) with its fluid boxes made a 0.1 m pool under
+    air to 0.6 m, 0.3 m wide, the air left out of the box site = (x0, y0,
+    x1, y1), and any other top-level tables replaced by `tables`."""
     x0, y0, x1, y1 = site
-    return [{"fluid": "water", "box": [0.0, 0.0, 0.3, 0.1]},
+    data = dict(sf.data, **tables)
+    data["fluid_box"] = [{"fluid": "water", "box": [0.0, 0.0, 0.3, 0.1]},
             {"fluid": "air", "box": [0.0, 0.1, 0.3, y0]},
             {"fluid": "air", "box": [0.0, y0, x0, y1]},
             {"fluid": "air", "box": [x1, y0, 0.3, y1]},
             {"fluid": "air", "box": [0.0, y1, 0.3, 0.6]}]
+    return scenefile.SceneFile(sf.path, sf.text, data)
 
 
 def droplet_thrown_up(speed=4.0, until=0.15, sample_every=0.01, path=None):
@@ -339,11 +340,8 @@ def droplet_thrown_up(speed=4.0, until=0.15, sample_every=0.01, path=None):
     sf = scenefile.load(path)
     l0 = sf.l0
     site = (0.14, 0.25, 0.17, 0.28)
-    data = dict(sf.data)
-    data["fluid_box"] = _pool_under_air_around(site)
-    data["tank"] = [{"box": [0.0, 0.0, 0.3, 1.2], "open_top": True}]
-    sf = scenefile.SceneFile(path, sf.text, data)
-    tank = data["tank"][0]["box"]
+    sf = _pool_under_air_around(sf, site, tank=[{"box": [0.0, 0.0, 0.3, 1.2], "open_top": True}])
+    tank = sf.data["tank"][0]["box"]
     drop = [(site[0] + (i + 0.5) * l0, site[1] + (j + 0.5) * l0)
             for i in range(3) for j in range(3)]
     water_id = sf.fluids.index("water")
@@ -384,12 +382,10 @@ def void_in_gas(width=4, dt=None, until=0.2, sample_every=0.01, path=None):
     l0 = sf.l0
     h0, h1 = 0.3 - 0.5 * width * l0, 0.3 + 0.5 * width * l0
     x0, x1 = 0.15 - 0.5 * width * l0, 0.15 + 0.5 * width * l0
-    data = dict(sf.data)
-    data["fluid_box"] = _pool_under_air_around((x0, h0, x1, h1))
-    if dt is not None:
-        data["parameters"] = dict(data.get("parameters", {}), dt=dt)
-    sf = scenefile.SceneFile(path, sf.text, data)
-    tank = data["tank"][0]["box"]
+    parameters = sf.data.get("parameters", {})
+    sf = _pool_under_air_around(sf, (x0, h0, x1, h1),
+                                parameters=parameters if dt is None else dict(parameters, dt=dt))
+    tank = sf.data["tank"][0]["box"]
     result = {"width": width, "dt": dt, "until": until, "closed_at": None,
               "diverged": None, "fastest_gas": 0.0, "lowest_gas_pressure": 0.0}
     with sf.make_solver() as s:
