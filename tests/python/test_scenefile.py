@@ -305,3 +305,37 @@ def test_pressure_probes_out_of_the_fluid_are_warned_of(tmp_path, at, warned):
         assert len(said) == 1 and warned in said[0], said
     else:
         assert not said, said
+
+
+@pytest.mark.parametrize("l0", [0.02, 0.015, 0.0125])
+@pytest.mark.parametrize("path", SHIPPED, ids=os.path.basename)
+def test_every_shipped_scene_builds_on_one_lattice_at_other_spacings(path, l0):
+    """At a spacing that does not divide its geometry (`--l0`, check_run's
+    l0), a shipped scene still builds, and every particle sits at the centre
+    of a cell of one l0 lattice from the origin: boxes that touch in the file
+    touch on it. Each box filled from its own corner put drop_into_pool.toml's
+    drop box into the tank's wall at 0.015 m (refused), and at 0.02 m
+    bubble_rise_4x4.toml's bubble half a spacing off the water around it."""
+    sf = scenefile.load(path)
+    sf.l0 = l0
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", mps2p.SnapWarning)
+        with sf.make_solver() as solver:
+            cells = solver.positions() / l0 - 0.5
+    assert np.abs(cells - np.round(cells)).max() < 1e-6
+
+
+def test_a_box_off_the_lattice_is_moved_onto_it_and_said(tmp_path):
+    text = GOOD.replace("[[tank]]", "[[fluid_box]]\nfluid = \"water\"\n"
+                        "box = [0.2, 0.05, 0.31, 0.1]\n[[tank]]", 1)
+    path = write(tmp_path, text)
+    with pytest.warns(mps2p.SnapWarning) as caught:
+        scenefile.load(path).build().close()
+    said = [str(w.message) for w in caught]
+    assert said == [path + ": fluid_box[1]: [0.2, 0.05, 0.31, 0.1] moved onto the lattice of "
+                    "l0 = 0.02 m: [0.2, 0.04, 0.3, 0.1]"], said
+    narrow = write(tmp_path, text.replace("[0.2, 0.05, 0.31, 0.1]", "[0.21, 0.05, 0.215, 0.1]"),
+                   "narrow.toml")
+    with pytest.raises(mps2p.SceneFileError, match=r"fluid_box\[1\]: .* is narrower than "
+                                                   r"l0 = 0.02 m on the lattice"):
+        scenefile.load(narrow).build()

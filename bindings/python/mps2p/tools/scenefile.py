@@ -211,13 +211,16 @@ class SceneFile:
             ids[f["name"]] = call("fluid[%d]" % i, scene.add_fluid, f["name"], f["density"],
                                   f["viscosity"])
         for i, b in enumerate(self.data.get("fluid_box", [])):
-            call("fluid_box[%d]" % i, scene.add_fluid_box, ids[b["fluid"]], *b["box"])
+            key = "fluid_box[%d]" % i
+            call(key, scene.add_fluid_box, ids[b["fluid"]], *self._on_lattice(key, b["box"]))
         for i, t in enumerate(self.data.get("tank", [])):
-            call("tank[%d]" % i, scene.add_tank, *t["box"], t.get("open_top", True))
+            key = "tank[%d]" % i
+            call(key, scene.add_tank, *self._on_lattice(key, t["box"]), t.get("open_top", True))
         self._warn_boxes_outside_tanks()
         self._warn_probes_out_of_the_fluid()
         for i, w in enumerate(self.data.get("wall_box", [])):
-            call("wall_box[%d]" % i, scene.add_wall_box, *w["box"])
+            key = "wall_box[%d]" % i
+            call(key, scene.add_wall_box, *self._on_lattice(key, w["box"]))
         for i, p in enumerate(self.data.get("particles", [])):
             key = "particles[%d]" % i
             arrays = self._read_particles(key, p["file"])
@@ -225,6 +228,31 @@ class SceneFile:
                  arrays.get("fluid_ids"), arrays.get("velocities"))
         if scene.particle_count == 0:
             raise self.error("fluid_box", "the scene has no particles")
+
+    def _on_lattice(self, key, box):
+        """The box with each corner coordinate that is not a whole number of
+        l0 moved down onto the l0 lattice from the origin (the others as
+        written): every box of the file then lies on one lattice, and boxes
+        that touch in the file touch on it, at any l0 (`--l0`, check_run's
+        l0). Filled from its own corner instead, a box off the lattice put
+        its particles a fraction of a spacing off its neighbours' (the
+        pressure solve answers that with a spike) or reached into them
+        (refused: drop_into_pool.toml at l0 = 0.015 m)."""
+        moved = []
+        for c in box:
+            cells = c / self.l0
+            if abs(cells - round(cells)) <= _ON_LATTICE:
+                moved.append(c)
+            else:
+                moved.append(math.floor(cells) * self.l0)
+        if moved != list(box):
+            if moved[2] <= moved[0] or moved[3] <= moved[1]:
+                raise self.error(key, "%s is narrower than l0 = %g m on the lattice of l0 "
+                                 "(%s)" % (list(box), self.l0, _rounded(moved)))
+            warnings.warn("%s: %s: %s moved onto the lattice of l0 = %g m: %s"
+                          % (self.path, key, list(box), self.l0, _rounded(moved)),
+                          errors.SnapWarning, stacklevel=4)
+        return moved
 
     def _warn_boxes_outside_tanks(self):
         """A fluid box wholly outside every tank (beside it, under its floor,
@@ -328,6 +356,15 @@ class SceneFile:
 # A scene file lists boxes and settings (a few kB); particles come in particle
 # files. Beyond this it is not a scene file, and reading on would only fill memory.
 MOST_SCENE_BYTES = 16 << 20
+
+
+# A coordinate within this many l0 of a whole number of l0 is on the lattice
+# (the C library's tolerance in counting a box's cells).
+_ON_LATTICE = 1e-6
+
+
+def _rounded(values):
+    return "[%s]" % ", ".join("%.6g" % v for v in values)
 
 
 def _not_regular(path):
