@@ -154,11 +154,18 @@ size_t linear_solver_memory(const linear_solver *ls)
 }
 
 /* A product with fewer rows than a block stays on the calling thread: a
- * fork costs more than the loop. The vector loops (a few nanoseconds a row)
- * stay there below VECTOR_PARALLEL_FROM rows: at 4,700 (the paper's gas)
- * they took twice as long on two threads as on one (docs/performance.md). */
+ * fork costs more than the loop. A vector loop of its own (a few
+ * nanoseconds a row) stays there below VECTOR_PARALLEL_FROM rows: at 4,700
+ * (the paper's gas) a team started for each took twice as long as one
+ * thread (docs/performance.md). CG's iterations share theirs in one team
+ * from PARALLEL_FROM rows on (cg_iterations). */
 #define PARALLEL_FROM REDUCTION_BLOCK
 #define VECTOR_PARALLEL_FROM (8 * REDUCTION_BLOCK)
+
+/* Partial sums a block: dot and the residual check use the first two; CG's
+ * iterations r.z, r.r, p.q and the coarse correction's r.z, each its own, so
+ * that on a team no thread writes a sum another may still be reading. */
+#define PARTIAL_SLOTS 4
 
 static size_t block_count(size_t n)
 {
@@ -261,7 +268,7 @@ static double relative_residual(const linear_solver *ls, const sparse_matrix *a,
 
 static int ensure_work(linear_solver *ls, size_t rows)
 {
-    size_t size = work_vectors(ls) * rows + 2 * block_count(rows);
+    size_t size = work_vectors(ls) * rows + PARTIAL_SLOTS * block_count(rows);
     if (ls->work_size >= size)
         return MPS2P_OK;
     double *work = realloc(ls->work, size * sizeof *work);
@@ -488,6 +495,172 @@ static void apply_ic0(const linear_solver *ls, size_t n, const double *r, double
                inverse_pivot[i];
 }
 
+/* The sum of the slot's block sums, in block order (stride PARTIAL_SLOTS). */
+static double combine_slot(const double *partial, size_t blocks, int slot)
+{
+    double sum = 0.0;
+    for (size_t b = 0; b < blocks; b++)
+        sum += partial[PARTIAL_SLOTS * b + (size_t)slot];
+    return sum;
+}
+
+enum { SLOT_RZ, SLOT_RR, SLOT_PQ, SLOT_COARSE_RZ };
+
+/* CG's state while it iterates, shared by a team's threads. */
+typedef struct cg_run {
+    linear_solver *ls;
+    const sparse_matrix *a;
+    double *x, *r, *z, *p, *q, *inverse_diagonal, *partial;
+    size_t n, blocks, max_iterations;
+    double tolerance, b_norm, rr, rz;
+    int incomplete_cholesky, two_level;
+    const double *coarse;      /* the coarse solve's answer (thread 0's) */
+    const int *aggregate_of;
+    double ic0_rz;             /* r . z after IC(0) (thread 0's) */
+    size_t iterations;
+    int status;
+} cg_run;
+
+/* A barrier for a team of more than one; a team of one never enters libgomp
+ * (numerics.h: PARALLEL_FOR). */
+#ifdef _OPENMP
+#define TEAM_BARRIER(team)                                                     \
+    do {                                                                       \
+        if ((team) > 1) {                                                      \
+            _Pragma("omp barrier")                                             \
+        }                                                                      \
+    } while (0)
+#else
+#define TEAM_BARRIER(team) (void)(team)
+#endif
+
+/* CG's iterations, by thread `thread` of a team of `team`: a thread takes
+ * rows [n t / team, n (t + 1) / team) of the product and the search
+ * direction, and blocks [B t / team, B (t + 1) / team) of the sums; each
+ * block sums in order and every thread adds the block sums in block order,
+ * so every thread computes the same scalars, and the result is the same bits
+ * for any team (one thread: the plain loop). One parallel region for all the
+ * iterations, its threads meeting at barriers: a vector loop over the gas's
+ * 4,700 rows is a few microseconds, less than starting a team for it. */
+static void cg_iterations(cg_run *run, int thread, int team)
+{
+    const sparse_matrix *a = run->a;
+    const size_t n = run->n, blocks = run->blocks;
+    const size_t row0 = n * (size_t)thread / (size_t)team;
+    const size_t row1 = n * (size_t)(thread + 1) / (size_t)team;
+    const size_t block0 = blocks * (size_t)thread / (size_t)team;
+    const size_t block1 = blocks * (size_t)(thread + 1) / (size_t)team;
+    double *x = run->x, *r = run->r, *z = run->z, *p = run->p, *q = run->q;
+    const double *inverse_diagonal = run->inverse_diagonal;
+    double *partial = run->partial;
+    const int incomplete_cholesky = run->incomplete_cholesky;
+    const double bound = run->tolerance * run->b_norm;
+    double rr = run->rr, rz = run->rz;
+    size_t k = 0;
+    int status = MPS2P_ERR_SOLVE;
+    for (;;) {
+        if (sqrt(rr) <= bound) {
+            status = MPS2P_OK;
+            break;
+        }
+        if (k >= run->max_iterations)
+            break;
+        for (size_t i = row0; i < row1; i++)
+            q[i] = sparse_dot(a->value, a->column, a->row_start[i], a->row_start[i + 1], p);
+        TEAM_BARRIER(team);
+        for (size_t b = block0; b < block1; b++) {
+            size_t first = b * REDUCTION_BLOCK;
+            size_t length = n - first < REDUCTION_BLOCK ? n - first : REDUCTION_BLOCK;
+            gsl_vector_const_view pv = gsl_vector_const_view_array(p + first, length);
+            gsl_vector_const_view qv = gsl_vector_const_view_array(q + first, length);
+            double sum = 0.0;
+            gsl_blas_ddot(&pv.vector, &qv.vector, &sum); /* as dot(): the same bits */
+            partial[PARTIAL_SLOTS * b + SLOT_PQ] = sum;
+        }
+        TEAM_BARRIER(team);
+        double pq = combine_slot(partial, blocks, SLOT_PQ);
+        if (!(pq > 0.0))
+            break;
+        double alpha = rz / pq;
+        /* x += alpha p, r -= alpha q, z = M^-1 r, and the block sums of r.z
+         * and r.r, in one pass over each block */
+        for (size_t b = block0; b < block1; b++) {
+            size_t first = b * REDUCTION_BLOCK;
+            size_t end = n - first < REDUCTION_BLOCK ? n : first + REDUCTION_BLOCK;
+            double block_rz = 0.0, block_rr = 0.0;
+            for (size_t i = first; i < end; i++) {
+                x[i] += alpha * p[i];
+                r[i] += -alpha * q[i];
+                if (!incomplete_cholesky) {
+                    z[i] = r[i] * inverse_diagonal[i];
+                    block_rz += r[i] * z[i];
+                }
+                block_rr += r[i] * r[i];
+            }
+            partial[PARTIAL_SLOTS * b + SLOT_RZ] = block_rz;
+            partial[PARTIAL_SLOTS * b + SLOT_RR] = block_rr;
+        }
+        TEAM_BARRIER(team);
+        rr = combine_slot(partial, blocks, SLOT_RR);
+        double rz_next = combine_slot(partial, blocks, SLOT_RZ);
+        if (incomplete_cholesky) {
+            /* the triangular solves are sequential: thread 0's */
+            if (thread == 0) {
+                apply_ic0(run->ls, n, r, z);
+                /* r . z as dot() sums it, without its partial sums (the
+                 * team may still be reading this iteration's) */
+                double total = 0.0;
+                for (size_t b = 0; b < blocks; b++) {
+                    size_t first = b * REDUCTION_BLOCK;
+                    size_t length = n - first < REDUCTION_BLOCK ? n - first : REDUCTION_BLOCK;
+                    gsl_vector_const_view rv = gsl_vector_const_view_array(r + first, length);
+                    gsl_vector_const_view zv = gsl_vector_const_view_array(z + first, length);
+                    double sum = 0.0;
+                    gsl_blas_ddot(&rv.vector, &zv.vector, &sum);
+                    total += sum;
+                }
+                run->ic0_rz = total;
+            }
+            TEAM_BARRIER(team);
+            rz_next = run->ic0_rz;
+        } else if (run->two_level && sqrt(rr) > bound) {
+            /* (not when converged: the loop stops before using z) */
+            if (thread == 0)
+                run->coarse = coarse_level_solve(run->ls->coarse, r, &run->aggregate_of);
+            TEAM_BARRIER(team);
+            const double *coarse = run->coarse;
+            if (!coarse) {
+                status = MPS2P_ERR_NOMEM;
+                break;
+            }
+            const int *aggregate_of = run->aggregate_of;
+            for (size_t b = block0; b < block1; b++) {
+                size_t first = b * REDUCTION_BLOCK;
+                size_t end = n - first < REDUCTION_BLOCK ? n : first + REDUCTION_BLOCK;
+                double block_rz = 0.0;
+                for (size_t i = first; i < end; i++) {
+                    z[i] += coarse[aggregate_of[i]];
+                    block_rz += r[i] * z[i];
+                }
+                partial[PARTIAL_SLOTS * b + SLOT_COARSE_RZ] = block_rz;
+            }
+            TEAM_BARRIER(team);
+            rz_next = combine_slot(partial, blocks, SLOT_COARSE_RZ);
+        }
+        double beta = rz_next / rz;
+        rz = rz_next;
+        for (size_t i = row0; i < row1; i++)
+            p[i] = p[i] * beta + z[i];
+        TEAM_BARRIER(team); /* the next product reads every row of p */
+        k++;
+    }
+    if (thread == 0) {
+        run->iterations = k;
+        run->status = status;
+        run->rr = rr;
+    }
+}
+
 /* z += P A_c^-1 P^T r, and r . z (block sums in order, as dot). */
 static int add_coarse_correction(const linear_solver *ls, const double *r, double *z,
                                  size_t n, double *rz, char *message, size_t size)
@@ -516,6 +689,16 @@ static int add_coarse_correction(const linear_solver *ls, const double *r, doubl
     return MPS2P_OK;
 }
 
+/* Row i's diagonal entry (0 when it has none). */
+static double diagonal_entry(const sparse_matrix *a, size_t i)
+{
+    double d = 0.0;
+    for (int k = a->row_start[i]; k < a->row_start[i + 1]; k++)
+        if ((size_t)a->column[k] == i)
+            d = a->value[k];
+    return d;
+}
+
 static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, double *x,
                     double tolerance, size_t max_iterations, size_t *iterations,
                     char *message, size_t size)
@@ -533,8 +716,10 @@ static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, 
         return MPS2P_OK;
     }
     multiply(ls, a, x, q);
-    for (size_t i = 0; i < n; i++)
+    PARALLEL_FOR(ls->threads, schedule(static) if (a->rows >= PARALLEL_FROM),
+    for (size_t i = 0; i < n; i++) {
         r[i] = b[i] - q[i];
+    });
     const int incomplete_cholesky = ls->preconditioner == CG_PRECONDITIONER_IC0;
     if (incomplete_cholesky) {
         int status = factor_ic0(ls, a, message, size);
@@ -544,18 +729,23 @@ static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, 
         memcpy(p, z, n * sizeof *p);
     }
     /* Jacobi preconditioner: the inverse of each row's diagonal entry */
-    for (size_t i = 0; i < n && !incomplete_cholesky; i++) {
-        double d = 0.0;
-        for (int k = a->row_start[i]; k < a->row_start[i + 1]; k++)
-            if ((size_t)a->column[k] == i)
-                d = a->value[k];
+    int not_positive = 0;
+    if (!incomplete_cholesky)
+        PARALLEL_FOR(ls->threads,
+                     schedule(static) reduction(| : not_positive) if (a->rows >= PARALLEL_FROM),
+        for (size_t i = 0; i < n; i++) {
+            double d = diagonal_entry(a, i);
+            not_positive |= !(d > 0.0);
+            inverse_diagonal[i] = 1.0 / d;
+            z[i] = r[i] * inverse_diagonal[i];
+            p[i] = z[i];
+        });
+    for (size_t i = 0; i < n && not_positive; i++) {
+        double d = diagonal_entry(a, i);
         if (!(d > 0.0)) {
             snprintf(message, size, "CG: diagonal entry %zu is %g, not positive", i, d);
             return MPS2P_ERR_SOLVE;
         }
-        inverse_diagonal[i] = 1.0 / d;
-        z[i] = r[i] * inverse_diagonal[i];
-        p[i] = z[i];
     }
     /* (no set-up when the warm start already meets the tolerance: still water) */
     double rr = dot(ls, r, r, n), rz = 0.0;
@@ -571,59 +761,28 @@ static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, 
     } else {
         rz = dot(ls, r, z, n);
     }
-    size_t k = 0;
-    int status = MPS2P_ERR_SOLVE;
-    for (;;) {
-        if (sqrt(rr) <= tolerance * b_norm) {
-            status = MPS2P_OK;
-            break;
-        }
-        if (k >= max_iterations)
-            break;
-        multiply(ls, a, p, q);
-        double pq = dot(ls, p, q, n);
-        if (!(pq > 0.0))
-            break;
-        double alpha = rz / pq;
-        /* x += alpha p, r -= alpha q, z = M^-1 r, and the block sums of r.z
-         * and r.r, in one pass over each block */
-        PARALLEL_FOR(ls->threads, schedule(static) if (n >= VECTOR_PARALLEL_FROM),
-        for (size_t block = 0; block < blocks; block++) {
-            size_t first = block * REDUCTION_BLOCK;
-            size_t end = n - first < REDUCTION_BLOCK ? n : first + REDUCTION_BLOCK;
-            double block_rz = 0.0, block_rr = 0.0;
-            for (size_t i = first; i < end; i++) {
-                x[i] += alpha * p[i];
-                r[i] += -alpha * q[i];
-                if (!incomplete_cholesky) {
-                    z[i] = r[i] * inverse_diagonal[i];
-                    block_rz += r[i] * z[i];
-                }
-                block_rr += r[i] * r[i];
-            }
-            partial[2 * block] = block_rz;
-            partial[2 * block + 1] = block_rr;
-        });
-        rr = combine(partial, blocks, 1);
-        double rz_next = combine(partial, blocks, 0);
-        if (incomplete_cholesky) {
-            apply_ic0(ls, n, r, z);
-            rz_next = dot(ls, r, z, n);
-        } else if (two_level && sqrt(rr) > tolerance * b_norm) {
-            /* (not when converged: the loop stops before using z) */
-            int correction = add_coarse_correction(ls, r, z, n, &rz_next, message, size);
-            if (correction != MPS2P_OK) {
-                *iterations = k;
-                return correction;
-            }
-        }
-        double beta = rz_next / rz;
-        rz = rz_next;
-        PARALLEL_FOR(ls->threads, schedule(static) if (n >= VECTOR_PARALLEL_FROM),
-        for (size_t i = 0; i < n; i++) {
-            p[i] = p[i] * beta + z[i];
-        });
-        k++;
+    cg_run run = {.ls = ls, .a = a, .x = x, .r = r, .z = z, .p = p, .q = q,
+                  .inverse_diagonal = inverse_diagonal, .partial = partial, .n = n,
+                  .blocks = blocks, .max_iterations = max_iterations,
+                  .tolerance = tolerance, .b_norm = b_norm, .rr = rr, .rz = rz,
+                  .incomplete_cholesky = incomplete_cholesky, .two_level = two_level};
+    /* a team from a block of rows on, as the product's */
+    const int team = a->rows >= PARALLEL_FROM ? team_size(ls->threads) : 1;
+#ifdef _OPENMP
+    if (team > 1) {
+        _Pragma("omp parallel num_threads(team)")
+        cg_iterations(&run, omp_get_thread_num(), omp_get_num_threads());
+    } else
+#endif
+        cg_iterations(&run, 0, 1);
+    size_t k = run.iterations;
+    int status = run.status;
+    rr = run.rr;
+    if (status == MPS2P_ERR_NOMEM) {
+        *iterations = k;
+        snprintf(message, size, "two-level preconditioner: the coarse solve failed (out of "
+                                "memory, or no coarse factor)");
+        return status;
     }
     *iterations = k;
     if (status != MPS2P_OK)

@@ -338,16 +338,31 @@ static int build_in_runs(neighbour_list *list, const double *position)
     size_t *short_offset = offset + runs;
     for (size_t run = 1; run < runs; run++)
         store[run] = (row_store){NULL, NULL, 0, 0, 0, 0};
+    store[0] = (row_store){list->index, list->short_index, list->capacity,
+                           list->short_capacity, 0, 0};
+    /* Runs of about equal work: split where the last build's rows (start,
+     * still the last build's here) reach equal shares of its entries, or of
+     * the rows before a first build. The lists do not depend on the split. */
+    size_t stack_split[STACK_RUNS + 1];
+    size_t *split = runs <= STACK_RUNS ? stack_split : calloc(runs + 1, sizeof *split);
+    if (!split) {
+        if (store != stack_store)
+            free(store);
+        if (offset != stack_offset)
+            free(offset);
+        return fail_growth(list);
+    }
+    for (size_t run = 0; run <= runs; run++)
+        split[run] = list->start[n] > 0 ? pair_block_first(list->start, n, runs, run)
+                                        : n * run / runs;
     list->start[0] = 0;
     if (with_short)
         list->short_start[0] = 0;
-    store[0] = (row_store){list->index, list->short_index, list->capacity,
-                           list->short_capacity, 0, 0};
     int failed = 0;
     PARALLEL_FOR(list->threads, schedule(static, 1) reduction(| : failed),
     for (size_t run = 0; run < runs; run++) {
-        failed |= store_rows(list, position, n * run / runs, n * (run + 1) / runs,
-                             &store[run]) != MPS2P_OK;
+        failed |= store_rows(list, position, split[run], split[run + 1], &store[run]) !=
+                  MPS2P_OK;
     });
     list->index = store[0].index;
     list->short_index = store[0].short_index;
@@ -372,7 +387,7 @@ static int build_in_runs(neighbour_list *list, const double *position)
             if (with_short && store[run].short_total > 0)
                 memcpy(list->short_index + short_offset[run], store[run].short_index,
                        store[run].short_total * sizeof *list->short_index);
-            for (size_t i = n * run / runs; i < n * (run + 1) / runs; i++) {
+            for (size_t i = split[run]; i < split[run + 1]; i++) {
                 list->start[i + 1] += offset[run];
                 if (with_short)
                     list->short_start[i + 1] += short_offset[run];
@@ -387,6 +402,8 @@ static int build_in_runs(neighbour_list *list, const double *position)
         free(store);
     if (offset != stack_offset)
         free(offset);
+    if (split != stack_split)
+        free(split);
     return failed ? fail_growth(list) : MPS2P_OK;
 }
 

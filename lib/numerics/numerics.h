@@ -58,6 +58,13 @@ static inline int team_size(double threads)
     } while (0)
 #endif
 
+/* The schedule clause of a particle loop whose rows cost unequal work (a
+ * fluid particle's row beside a wall's, which the loop skips; a scene lists
+ * its walls last, so equal shares of rows were unequal shares of work):
+ * chunks of rows handed to the threads as they come free. Each row writes
+ * only its own outputs, so the results do not depend on it. */
+#define UNEQUAL_ROWS schedule(dynamic, 64)
+
 /* SIDE_BY_SIDE(threads, first, second): the two statements at once, each on
  * one thread, when team_size(threads) > 1; else first, then second. first
  * runs on the calling thread, so the per-thread error message it may set
@@ -215,21 +222,38 @@ static inline size_t first_above(neighbour_rows rows, size_t i)
  * to the upper row only when that row is in the block (below the block's end;
  * the upper block takes it in its first pass). Every row still sums its
  * terms in ascending order of neighbour: the same bits for any number of
- * blocks, and one block is the one-thread loop. Block b of count: */
-static inline size_t pair_block_first(size_t count, size_t blocks, size_t b)
+ * blocks, and one block is the one-thread loop. Block b of count rows starts
+ * where b / blocks of the rows' entries (start, the rows' offsets) lie
+ * before it: blocks of equal work, not of equal rows (walls' dummies have
+ * empty rows, and a scene lists them last). */
+static inline size_t pair_block_first(const size_t *start, size_t count, size_t blocks,
+                                      size_t b)
 {
-    return count * b / blocks;
+    if (b >= blocks)
+        return count;
+    const size_t target = start[0] + (start[count] - start[0]) / blocks * b +
+                          (start[count] - start[0]) % blocks * b / blocks;
+    size_t low = 0, high = count; /* the first row i with start[i] >= target */
+    while (low < high) {
+        size_t middle = low + (high - low) / 2;
+        if (start[middle] < target)
+            low = middle + 1;
+        else
+            high = middle;
+    }
+    return low;
 }
 
-/* PAIR_BLOCKS(threads, count, first, end, body): body once for each block of
- * rows [first, end) of count, one block a thread of team_size(threads). */
-#define PAIR_BLOCKS(threads, count, first, end, ...)                               \
+/* PAIR_BLOCKS(threads, start, count, first, end, body): body once for each
+ * block of rows [first, end) of count (start: the rows' offsets), one block
+ * a thread of team_size(threads). */
+#define PAIR_BLOCKS(threads, start, count, first, end, ...)                        \
     do {                                                                         \
         const size_t blocks_ = (size_t)team_size(threads);                       \
         PARALLEL_FOR(threads, schedule(static, 1) if (blocks_ > 1),              \
         for (size_t block_ = 0; block_ < blocks_; block_++) {                    \
-            const size_t first = pair_block_first(count, blocks_, block_);       \
-            const size_t end = pair_block_first(count, blocks_, block_ + 1);     \
+            const size_t first = pair_block_first(start, count, blocks_, block_); \
+            const size_t end = pair_block_first(start, count, blocks_, block_ + 1); \
             __VA_ARGS__                                                          \
         });                                                                      \
     } while (0)

@@ -36,7 +36,7 @@ int collision_apply(mps2p_solver *s, double dt)
     /* Every impulse is computed from the velocities before this pass, so the
      * result does not depend on the order of the particles (nor on how
      * threads split them). */
-    PARALLEL_FOR(s->params.threads, schedule(static),
+    PARALLEL_FOR(s->params.threads, UNEQUAL_ROWS,
     for (size_t i = 0; i < s->count; i++) {
         if (s->kind[i] != MPS2P_KIND_FLUID)
             continue;

@@ -37,7 +37,7 @@ int pressure_correct(mps2p_solver *s, double dt)
 {
     const double *pressure = s->state.pressure;
     double *change = s->scratch;
-    PARALLEL_FOR(s->params.threads, schedule(static),
+    PARALLEL_FOR(s->params.threads, UNEQUAL_ROWS,
     for (size_t i = 0; i < s->count; i++) {
         double *du = &change[2 * i];
         du[0] = du[1] = 0.0;
@@ -84,7 +84,7 @@ int particles_shift(mps2p_solver *s, double dt)
             fastest2 = fmax(fastest2, velocity[2 * i] * velocity[2 * i] +
                                           velocity[2 * i + 1] * velocity[2 * i + 1]);
     const double c = s->params.shifting * sqrt(fastest2) * dt;
-    PARALLEL_FOR(s->params.threads, schedule(static),
+    PARALLEL_FOR(s->params.threads, UNEQUAL_ROWS,
     for (size_t i = 0; i < s->count; i++) {
         double *d = &shift[2 * i];
         d[0] = d[1] = 0.0;

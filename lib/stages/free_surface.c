@@ -30,7 +30,7 @@ int neighbour_count_compute(mps2p_solver *s, double dt)
     const double re = s->params.re_density * s->l0, re2 = re * re;
     const neighbour_list *nl = &s->neighbours;
     const double *position = s->state.position;
-    PARALLEL_FOR(s->params.threads, schedule(static),
+    PARALLEL_FOR(s->params.threads, UNEQUAL_ROWS,
     for (size_t i = 0; i < s->count; i++) {
         unsigned count = 0;
         for (size_t k = nl->start[i]; k < nl->start[i + 1]; k++) {

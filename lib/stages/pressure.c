@@ -250,16 +250,24 @@ static int assemble_in_runs(mps2p_solver *s, const ppe_system *sys, double dt)
     size_t *split = runs <= STACK_RUNS ? stack_splits : calloc(runs + 1, sizeof *split);
     int failed = !run || !offset || !first_row || !split;
     if (!failed) {
-        /* runs of equal numbers of rows (the unknowns are numbered in
-         * particle order; a scene's phases and walls lie in blocks of it) */
-        size_t r = 0;
-        for (size_t i = 0; i < n && r < runs; i++)
-            while (r < runs && s->unknown_of[i] >= 0 &&
-                   (size_t)s->unknown_of[i] >= (size_t)m->rows * r / runs) {
+        /* runs of about equal work, a row's work its neighbour row's length
+         * (the unknowns are numbered in particle order; a scene's phases and
+         * walls lie in blocks of it, with rows of different lengths) */
+        const size_t *row = s->neighbours.start;
+        size_t work = 0, done = 0, r = 0;
+        for (size_t i = 0; i < n; i++)
+            if (s->unknown_of[i] >= 0)
+                work += row[i + 1] - row[i] + 1;
+        for (size_t i = 0; i < n && r < runs; i++) {
+            if (s->unknown_of[i] < 0)
+                continue;
+            while (r < runs && done >= work / runs * r + work % runs * r / runs) {
                 split[r] = i;
                 first_row[r] = s->unknown_of[i];
                 r++;
             }
+            done += row[i + 1] - row[i] + 1;
+        }
         for (; r <= runs; r++) {
             split[r] = n;
             first_row[r] = m->rows;
@@ -322,7 +330,7 @@ static int assemble_in_two_passes(mps2p_solver *s, const ppe_system *sys, double
     const neighbour_list *nl = &s->neighbours;
     const double *position = s->state.position;
     sparse_matrix *m = &s->matrix;
-    PARALLEL_FOR(s->params.threads, schedule(static),
+    PARALLEL_FOR(s->params.threads, UNEQUAL_ROWS,
     for (size_t i = 0; i < s->count; i++) {
         if (s->unknown_of[i] < 0)
             continue;
@@ -352,7 +360,7 @@ static int assemble_in_two_passes(mps2p_solver *s, const ppe_system *sys, double
     if (grow_matrix(m, m->rows, entries) != MPS2P_OK)
         return fail(s->error, MPS2P_ERR_NOMEM,
                     "out of memory for the pressure matrix (%zu entries)", entries);
-    PARALLEL_FOR(s->params.threads, schedule(static),
+    PARALLEL_FOR(s->params.threads, UNEQUAL_ROWS,
     for (size_t i = 0; i < s->count; i++) {
         int row = s->unknown_of[i];
         if (row >= 0)
@@ -383,7 +391,7 @@ static void extrapolate_surface(const mps2p_solver *s, ppe_system *sys)
     const neighbour_list *nl = &s->neighbours;
     const double *position = s->state.position;
     double *extra = sys->surface_diagonal;
-    PARALLEL_FOR(s->params.threads, schedule(static),
+    PARALLEL_FOR(s->params.threads, UNEQUAL_ROWS,
     for (size_t i = 0; i < s->count; i++) {
         extra[i] = 0.0;
         if (!sys->surface[i] || s->kind[i] != MPS2P_KIND_FLUID || !takes_part(s, sys, i))

@@ -38,7 +38,7 @@ int phases_correct(mps2p_solver *s, double dt)
     /* 0 where the square is not finite: then hypot decides every time */
     const double cap2_within = isfinite(cap * cap) ? cap * cap * (1.0 - 1e-12) : 0.0;
     size_t capped = 0;
-    PARALLEL_FOR(s->params.threads, schedule(static) reduction(+ : capped),
+    PARALLEL_FOR(s->params.threads, UNEQUAL_ROWS reduction(+ : capped),
     for (size_t i = 0; i < s->count; i++) {
         double *du = &change[2 * i];
         du[0] = du[1] = 0.0;

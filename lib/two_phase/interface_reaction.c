@@ -63,7 +63,7 @@ int interface_scan(mps2p_solver *s, double dt)
     gravity_acting(s, g);
     const double closing = s->params.trigger_speed * sqrt(hypot(g[0], g[1]) * s->l0);
     size_t triggered = 0, enclosed = 0;
-    PARALLEL_FOR(s->params.threads, schedule(static) reduction(+ : triggered, enclosed),
+    PARALLEL_FOR(s->params.threads, UNEQUAL_ROWS reduction(+ : triggered, enclosed),
     for (size_t i = 0; i < s->count; i++) {
         tp->triggered[i] = tp->enclosed[i] = 0;
         if (!light_in_run(s, i))
@@ -190,7 +190,7 @@ int interface_drift_apply(mps2p_solver *s, double dt)
     const int gravity_on = s->effect_active[EFFECT_GRAVITY];
     const double relax = 1.0 - exp(-dt / s->params.bubble_relaxation_time);
     /* a drift bubble reads only liquid neighbours, whom this loop never moves */
-    PARALLEL_FOR(s->params.threads, schedule(static),
+    PARALLEL_FOR(s->params.threads, UNEQUAL_ROWS,
     for (size_t i = 0; i < s->count; i++) {
         if (!light_in_run(s, i) || !(tp->joined[i] || tp->join_weight[i] > 0.0))
             continue;
