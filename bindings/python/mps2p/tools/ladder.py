@@ -7,7 +7,7 @@ asserted by tests/python/test_two_phase_ladder.py.
 
 prints each rung's measures as JSON (rungs: still_water_under_air,
 droplet_in_air, droplet_settles, bubble_rise_4x4, bubble_rise_8x8, dam_break_front,
-paper_case, gas_thrown_up, droplet_thrown_up, void_in_gas, tip_into_wall), or
+paper_case, gas_thrown_up, droplet_thrown_up, tip_into_wall, void_in_gas), or
 with --results rung 4's of a run of the paper's case
 (`mps2p run`'s results.h5): water suspended in the air and the widest hole in
 the gas, per snapshot."""
