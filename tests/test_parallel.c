@@ -86,6 +86,9 @@ int main(void)
     compare_counts(column, 4, "1 m x 2 m column (cg with Jacobi, about 5000 unknowns)");
     MUST(mps2p_scene_set_option(column, "cg_preconditioner", "two_level"));
     compare_counts(column, 4, "1 m x 2 m column (cg with the two-level preconditioner)");
+    /* IC(0)'s triangular solves on the team's first thread (cg_iterations) */
+    MUST(mps2p_scene_set_option(column, "cg_preconditioner", "ic0"));
+    compare_counts(column, 4, "1 m x 2 m column (cg with IC(0))");
     mps2p_scene_destroy(column);
 
     /* two phases: the sector scan, the number densities each phase sees, the

@@ -153,18 +153,20 @@ size_t linear_solver_memory(const linear_solver *ls)
     return bytes;
 }
 
-/* A product with fewer rows than a block stays on the calling thread: a
- * fork costs more than the loop. A vector loop of its own (a few
- * nanoseconds a row) stays there below VECTOR_PARALLEL_FROM rows: at 4,700
- * (the paper's gas) a team started for each took twice as long as one
- * thread (docs/performance.md). CG's iterations share theirs in one team
- * from PARALLEL_FROM rows on (cg_iterations). */
+/* A loop over a matrix's rows (the product, the diagonal's inverse) with
+ * fewer rows than a block stays on the calling thread: a fork costs more
+ * than the loop. A vector loop of its own (a few nanoseconds a row) stays
+ * there below VECTOR_PARALLEL_FROM rows: at 4,700 (the paper's gas) a team
+ * started for each took twice as long as one thread (docs/performance.md).
+ * CG's iterations share theirs in one team from PARALLEL_FROM rows on
+ * (cg_iterations). */
 #define PARALLEL_FROM REDUCTION_BLOCK
 #define VECTOR_PARALLEL_FROM (8 * REDUCTION_BLOCK)
 
-/* Partial sums a block: dot and the residual check use the first two; CG's
- * iterations r.z, r.r, p.q and the coarse correction's r.z, each its own, so
- * that on a team no thread writes a sum another may still be reading. */
+/* Room for partial sums a block: dot, the residual check and the coarse
+ * correction of CG's start use two a block (partial[2 b + part], combine);
+ * CG's iterations four (partial[PARTIAL_SLOTS b + slot], combine_slot): r.z,
+ * r.r, p.q and the coarse correction's r.z, each in its own slot. */
 #define PARTIAL_SLOTS 4
 
 static size_t block_count(size_t n)
@@ -716,10 +718,8 @@ static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, 
         return MPS2P_OK;
     }
     multiply(ls, a, x, q);
-    PARALLEL_FOR(ls->threads, schedule(static) if (a->rows >= PARALLEL_FROM),
-    for (size_t i = 0; i < n; i++) {
+    for (size_t i = 0; i < n; i++)
         r[i] = b[i] - q[i];
-    });
     const int incomplete_cholesky = ls->preconditioner == CG_PRECONDITIONER_IC0;
     if (incomplete_cholesky) {
         int status = factor_ic0(ls, a, message, size);
@@ -768,6 +768,7 @@ static int solve_cg(linear_solver *ls, const sparse_matrix *a, const double *b, 
                   .incomplete_cholesky = incomplete_cholesky, .two_level = two_level};
     /* a team from a block of rows on, as the product's */
     const int team = a->rows >= PARALLEL_FROM ? team_size(ls->threads) : 1;
+    (void)team; /* without OpenMP */
 #ifdef _OPENMP
     if (team > 1) {
         _Pragma("omp parallel num_threads(team)")
