@@ -16,10 +16,10 @@ ninja --quiet -C build-release
 export MPS2P_LIBRARY="$PWD/build-release/lib/libmps2p.so.0"
 export PYTHONPATH="$PWD/bindings/python${PYTHONPATH:+:$PYTHONPATH}"
 out=out/ikari2003_dam_break_air
-# every core (--threads 0) unless MPS2P_THREADS says otherwise: on a machine
-# other jobs share, more threads than free cores were 4-19 times slower
-# (MPS2P_THREADS=1); the results are the same bits for any thread count
-threads=${MPS2P_THREADS:-0}
+# the cores idle as each run starts (--threads auto) unless MPS2P_THREADS says
+# otherwise: on a machine other jobs share, more threads than free cores were
+# 4-100 times slower; the results are the same bits for any thread count
+threads=${MPS2P_THREADS:-auto}
 python3 -m mps2p run examples/scenes/dam_break.toml --out out/dam_break --threads "$threads"
 python3 -m mps2p run examples/scenes/ikari2003_dam_break_air.toml --out "$out" --threads "$threads"
 python3 examples/compare_fronts.py "$out" out/dam_break "$out/front_vs_water_only.png"

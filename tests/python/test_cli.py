@@ -41,6 +41,44 @@ def test_run_writes_results(tmp_path):
     assert (tmp_path / "results.h5").exists() and not (tmp_path / "snapshots.png").exists()
 
 
+def test_a_run_at_another_spacing(tmp_path):
+    """--l0 runs the scene at another particle spacing: the water column of
+    dam_break.toml (0.15 m x 0.3 m) on the 0.02 m lattice is 7 x 15."""
+    result = mps2p("run", "dam_break", "--l0", "0.02", "--out", str(tmp_path), "--until",
+                   "0.01", "--no-pictures", "--quiet")
+    assert result.returncode == 0, result.stderr
+    assert "moved onto the lattice of l0 = 0.02 m" in result.stderr
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["particles"]["water"] == 7 * 15
+    assert summary["l0"] == 0.02
+    with mps2p_package.open_results(str(tmp_path / "results.h5")) as results:
+        assert results.metadata["l0"] == 0.02
+        assert results.scene_text.startswith("# run with l0 = 0.02 (mps2p run --l0)\n")
+
+
+def test_stability_makes_the_folder_of_its_report_before_running(tmp_path):
+    report = tmp_path / "not" / "yet" / "report.json"
+    result = mps2p("stability", "dam_break", "--until", "0.01", "--out", str(report))
+    assert result.returncode == 0, result.stderr
+    assert json.loads(report.read_text())["status"] == "ok"
+    (tmp_path / "a_file").write_text("")
+    result = mps2p("stability", "dam_break", "--until", "0.01", "--out",
+                   str(tmp_path / "a_file" / "report.json"))
+    assert result.returncode == 2 and "a file of that name is in the way" in result.stderr
+    assert "t = " not in result.stdout  # refused before the run
+
+
+def test_threads_auto_takes_the_idle_cores(tmp_path):
+    result = mps2p("run", "dam_break", "--threads", "auto", "--out", str(tmp_path),
+                   "--until", "0.01", "--no-pictures", "--quiet")
+    assert result.returncode == 0, result.stderr
+    said = [line for line in result.stderr.splitlines() if "--threads auto: " in line]
+    assert len(said) == 1 and " cores idle)" in said[0], result.stderr
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["threads"] == float(said[0].split("auto: ")[1].split()[0])
+    assert 1 <= summary["threads"] <= (os.cpu_count() or 1)
+
+
 def test_threads_give_the_same_results(tmp_path):
     # the paper's water-air case briefly: its two pressure solves run side by side
     # on two threads (docs/performance.md), the results the same bits

@@ -339,3 +339,16 @@ def test_a_box_off_the_lattice_is_moved_onto_it_and_said(tmp_path):
     with pytest.raises(mps2p.SceneFileError, match=r"fluid_box\[1\]: .* is narrower than "
                                                    r"l0 = 0.02 m on the lattice"):
         scenefile.load(narrow).build()
+
+
+def test_a_changed_run_table_is_what_is_built(tmp_path):
+    """docs/python.md: a script may change sf.data before make_solver(); the
+    [run] values too (they were copied at load, and a changed l0 did nothing)."""
+    sf = scenefile.load(write(tmp_path, GOOD))
+    sf.data["run"]["l0"] = 0.04
+    assert sf.l0 == 0.04
+    with sf.make_solver() as solver:
+        water = sum(1 for k in solver.kinds() if k == mps2p.KIND_FLUID)
+    assert water == 4 * 7  # [0, 0.16] x [0, 0.3] on the 0.04 m lattice
+    sf.end_time = 0.5
+    assert sf.data["run"]["end_time"] == 0.5

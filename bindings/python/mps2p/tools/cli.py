@@ -1,6 +1,7 @@
 """The `mps2p` command.
 
-    mps2p run SCENE [--until T] [--out DIR] [--threads N] [--no-pictures] [--quiet]
+    mps2p run SCENE [--until T] [--l0 L] [--out DIR] [--threads N|auto] [--no-pictures]
+              [--quiet]
     mps2p examples            # the example scenes shipped in the package
     mps2p info [SCENE]        # without a scene: library version, path, parameters,
                               # options, statistics;
@@ -40,7 +41,10 @@ def _time(text):
 
 
 def _threads(text):
-    """argparse type: a thread count, 0 (OpenMP's default: every core) to 1024."""
+    """argparse type: a thread count, 0 (OpenMP's default: every core) to 1024,
+    or "auto" (the cores idle when the run starts: run.idle_cores)."""
+    if text == "auto":
+        return text
     try:
         value = int(text)
     except ValueError:
@@ -66,9 +70,14 @@ def parser():
                             help="output folder (default out/<the scene's name>)")
     run_parser.add_argument("--until", metavar="T", type=_time, default=None,
                             help="stop at this time (s) instead of the scene's end_time")
+    run_parser.add_argument("--l0", metavar="L", type=_time, default=None,
+                            help="another particle spacing (m) than the scene's (its boxes "
+                                 "are put on the new lattice: docs/scene-files.md)")
     run_parser.add_argument("--threads", metavar="N", type=_threads, default=None,
                             help="threads of the particle loops (parameter threads; 0 = "
-                                 "every core): the same results bit for bit, faster on a "
+                                 "every core; auto = the cores idle as the run starts, "
+                                 "since more threads than free cores are many times "
+                                 "slower): the same results bit for bit, faster on a "
                                  "machine with free cores (default: the scene's, else the "
                                  "environment variable MPS2P_THREADS, else 1)")
     run_parser.add_argument("--no-pictures", action="store_true",
@@ -200,11 +209,16 @@ def _examples():
 
 
 def _run(args):
-    from .run import run
+    from .run import idle_cores, run
     from .scenefile import load
     out = args.out or "out/%s" % load(args.scene).name
+    if args.threads == "auto":
+        idle, cores = idle_cores()
+        args.threads = max(1, min(cores, round(idle)))
+        print("mps2p: --threads auto: %d (%.1f of %d cores idle)" % (args.threads, idle, cores),
+              file=sys.stderr)
     summary = run(args.scene, out, until=args.until, pictures=not args.no_pictures,
-                  progress=not args.quiet, threads=args.threads)
+                  progress=not args.quiet, threads=args.threads, l0=args.l0)
     print("%s: %s at t = %.4g s after %d steps, %.3g particle-steps/s; results in %s"
           % (summary["name"], summary["status"], summary["time"], summary["steps"],
              summary["particle_steps_per_second"] or 0, out))
@@ -230,6 +244,9 @@ def _stability(args):
               % (row["time"], row["kinetic_energy"], row["closest_pair"],
                  row.get("gas_in_liquid", "-")), flush=True)
 
+    if args.out:  # before the run, not after it: its folder made, or the error now
+        from .run import make_output_folder
+        make_output_folder(os.path.dirname(os.path.abspath(args.out)))
     report = check_run(args.scene, until=args.until, l0=args.l0, options=options,
                        sample_every=0.05, progress=show)
     peak, last = gas_in_liquid_peak_and_last(report)

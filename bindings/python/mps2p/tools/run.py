@@ -87,14 +87,17 @@ def particle_counts(solver, fluid_names):
     return counts
 
 
-def run(scene_path, out_dir, until=None, pictures=True, progress=False, threads=None):
+def run(scene_path, out_dir, until=None, pictures=True, progress=False, threads=None,
+        l0=None):
     """Runs the scene file into out_dir; returns the summary (also written as
     summary.json). A scene that cannot be read or built raises before anything
     is written. A divergence ends the run early with status "diverged": the last
     good state is written as a final snapshot and everything so far is kept.
     threads, when given, replaces the scene's parameter threads (the results do
-    not depend on it)."""
+    not depend on it); l0 the scene's particle spacing."""
     scene_file = load(scene_path)
+    if l0 is not None:
+        scene_file.l0 = float(l0)
     if threads is not None:
         scene_file.data.setdefault("parameters", {})["threads"] = float(threads)
     end = scene_file.end_time if until is None else float(until)
@@ -141,7 +144,10 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False, threads=
     status, reason, diverged_particle = "ok", "", -1
     bar = Progress(end, n, progress)
     started = clock.perf_counter()
-    with Results(os.path.join(out_dir, "results.h5"), solver, scene_file.text) as results:
+    scene_text = scene_file.text
+    if l0 is not None:  # the file as run: its l0 replaced (the results say l0 too)
+        scene_text = "# run with l0 = %r (mps2p run --l0)\n%s" % (scene_file.l0, scene_text)
+    with Results(os.path.join(out_dir, "results.h5"), solver, scene_text) as results:
         def sample():
             values = probes.sample(solver)
             rows.append([solver.time, solver.step_count] + values)
@@ -248,6 +254,30 @@ def pictures_available():
     except ImportError:
         return False
     return True
+
+
+def idle_cores(sample=0.3):
+    """(idle, cores): how many of the cores this process may run on were idle
+    over `sample` seconds (Linux's /proc/stat; where it cannot be read, all of
+    them). OpenMP's threads wait for each other by spinning: on a machine
+    another job shares, more threads than free cores made the main job's runs
+    4 to 100 times slower (docs/performance.md)."""
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (
+        os.cpu_count() or 1)
+
+    def times():
+        with open("/proc/stat") as f:
+            values = [int(v) for v in f.readline().split()[1:]]
+        return values[3] + values[4], sum(values)  # idle + iowait, all
+    try:
+        idle0, total0 = times()
+        clock.sleep(sample)
+        idle1, total1 = times()
+    except (OSError, ValueError, IndexError):
+        return float(cores), cores
+    machine = os.cpu_count() or cores
+    share = (idle1 - idle0) / (total1 - total0) if total1 > total0 else 1.0
+    return min(float(cores), share * machine), cores
 
 
 def make_output_folder(path):

@@ -100,15 +100,30 @@ class SceneFile:
         self.path = path
         self.text = text
         self.data = data
-        run = data["run"]
-        self.name = run.get("name") or default_name(path)
-        self.l0 = run["l0"]
-        self.end_time = run["end_time"]
-        self.snapshot_every = run.get("snapshot_every", 0.0)
-        self.series_every = run.get("series_every", 0.0)
-        self.picture_times = run.get("picture_times")
         self.fluids = [f["name"] for f in data.get("fluid", [])]
         self.probes = data.get("probe", [])
+
+    # The [run] table's values, read from data (a script may change either:
+    # sf.l0 = 0.02 or sf.data["run"]["l0"] = 0.02, before make_solver()).
+    def _run_value(key, default=None):
+        def get(self):
+            return self.data["run"].get(key, default)
+
+        def set(self, value):
+            self.data["run"][key] = value
+        return property(get, set, doc="[run] %s" % key)
+
+    l0 = _run_value("l0")
+    end_time = _run_value("end_time")
+    snapshot_every = _run_value("snapshot_every", 0.0)
+    series_every = _run_value("series_every", 0.0)
+    picture_times = _run_value("picture_times")
+    del _run_value
+
+    @property
+    def name(self):
+        """[run] name, or the file's name without .toml."""
+        return self.data["run"].get("name") or default_name(self.path)
 
     def error(self, key, reason):
         return errors.SceneFileError("%s: %s: %s" % (self.path, key, reason))
