@@ -256,6 +256,28 @@ def pictures_available():
     return True
 
 
+def _cpu_quota():
+    """The cores a container's CPU quota allows (cgroup v2 cpu.max or v1
+    cfs_quota_us over cfs_period_us, rounded up), or None without one."""
+    for path, split in (("/sys/fs/cgroup/cpu.max", lambda text: text.split()),
+                        ("/sys/fs/cgroup/cpu/cpu.cfs_quota_us", None)):
+        try:
+            with open(path) as f:
+                text = f.read()
+            if split:
+                quota, period = split(text)
+            else:
+                quota = text
+                with open("/sys/fs/cgroup/cpu/cpu.cfs_period_us") as f:
+                    period = f.read()
+            quota, period = int(quota), int(period)
+        except (OSError, ValueError):
+            continue  # no such file, or "max" / -1: no quota there
+        if quota > 0 and period > 0:
+            return -(-quota // period)
+    return None
+
+
 def idle_cores(sample=0.3):
     """(idle, cores): how many of the cores this process may run on were idle
     over `sample` seconds (Linux's /proc/stat; where it cannot be read, all of
@@ -264,6 +286,7 @@ def idle_cores(sample=0.3):
     4 to 100 times slower (docs/performance.md)."""
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (
         os.cpu_count() or 1)
+    cores = max(1, min(cores, _cpu_quota() or cores))
 
     def times():
         with open("/proc/stat") as f:
