@@ -56,6 +56,15 @@ def test_a_run_at_another_spacing(tmp_path):
         assert results.scene_text.startswith("# run with l0 = 0.02 (mps2p run --l0)\n")
 
 
+def test_info_says_what_another_spacing_builds():
+    result = mps2p("info", "dam_break", "--l0", "0.005")
+    assert result.returncode == 0, result.stderr
+    described = json.loads(result.stdout)
+    assert described["l0"] == 0.005 and described["particles"]["water"] == 30 * 60
+    result = mps2p("info", "--l0", "0.005")
+    assert result.returncode == 2 and "--l0 needs a scene" in result.stderr
+
+
 def test_stability_makes_the_folder_of_its_report_before_running(tmp_path):
     report = tmp_path / "not" / "yet" / "report.json"
     result = mps2p("stability", "dam_break", "--until", "0.01", "--out", str(report))

@@ -3,10 +3,10 @@
     mps2p run SCENE [--until T] [--l0 L] [--out DIR] [--threads N|auto] [--no-pictures]
               [--quiet]
     mps2p examples            # the example scenes shipped in the package
-    mps2p info [SCENE]        # without a scene: library version, path, parameters,
-                              # options, statistics;
-                              # with one: particles, fluids, effects, dt, without running
-    mps2p check SCENE         # read, check and build the scene; print it as JSON
+    mps2p info [SCENE [--l0 L]]  # without a scene: library version, path, parameters,
+                                 # options, statistics; with one: particles, fluids,
+                                 # effects, dt, without running (at --l0 if given)
+    mps2p check SCENE [--l0 L]   # read, check and build the scene; print it as JSON
     mps2p study [--quick] [--out DIR]   # the accuracy-cost study
     mps2p stability SCENE [--until T] [--l0 L] [--model M] [--out FILE.json]
                               # run with the hard-case checks after every step
@@ -91,6 +91,9 @@ def parser():
     check_parser = commands.add_parser("check", help="check a scene and build it; print it "
                                                      "as JSON")
     check_parser.add_argument("scene", metavar="SCENE", help=SCENE_HELP)
+    for command in (info_parser, check_parser):  # what a run at --l0 would build
+        command.add_argument("--l0", metavar="L", type=_time, default=None,
+                             help="another particle spacing (m) than the scene's")
     study_parser = commands.add_parser("study", help="the accuracy-cost study "
                                                      "(docs/accuracy-cost.md)")
     study_parser.add_argument("--quick", action="store_true",
@@ -264,10 +267,12 @@ def _stability(args):
     return 0 if report["status"] == "ok" else 1
 
 
-def _describe(path):
+def _describe(path, l0=None):
     from .run import particle_counts
     from .scenefile import load
     scene_file = load(path)
+    if l0 is not None:
+        scene_file.l0 = l0
     with scene_file.make_solver() as solver:
         return {
             "scene": path, "name": scene_file.name, "l0": scene_file.l0,
@@ -283,13 +288,15 @@ def _describe(path):
 
 
 def _check(args):
-    print(json.dumps(_describe(args.scene), indent=2))
+    print(json.dumps(_describe(args.scene, args.l0), indent=2))
     return 0
 
 
 def _info(args):
     if args.scene:
         return _check(args)
+    if args.l0 is not None:
+        raise errors.SceneFileError("mps2p info: --l0 needs a scene")
     import mps2p
     print("libmps2p %s" % mps2p.__version__)
     print("library: %s" % mps2p.library_path)
