@@ -75,6 +75,9 @@ def test_stability_makes_the_folder_of_its_report_before_running(tmp_path):
                    str(tmp_path / "a_file" / "report.json"))
     assert result.returncode == 2 and "a file of that name is in the way" in result.stderr
     assert "t = " not in result.stdout  # refused before the run
+    result = mps2p("stability", "dam_break", "--until", "0.01", "--out", str(tmp_path))
+    assert result.returncode == 2 and "a folder; the report is a file" in result.stderr
+    assert "t = " not in result.stdout
 
 
 def test_threads_auto_takes_the_idle_cores(tmp_path):
@@ -123,6 +126,12 @@ def test_the_environment_gives_the_thread_count_a_scene_leaves_open(tmp_path):
     result = subprocess.run(command + ["--out", str(tmp_path / "flag"), "--threads", "1"],
                             capture_output=True, text=True, env=env)
     assert json.loads((tmp_path / "flag" / "summary.json").read_text())["threads"] == 1.0
+    env["MPS2P_THREADS"] = "auto"  # the idle cores, as --threads auto
+    result = subprocess.run(command + ["--out", str(tmp_path / "auto")], capture_output=True,
+                            text=True, env=env)
+    assert result.returncode == 0, result.stderr
+    assert 1 <= json.loads((tmp_path / "auto" / "summary.json").read_text())["threads"] <= \
+        (os.cpu_count() or 1)
     env["MPS2P_THREADS"] = "two"
     result = subprocess.run(command + ["--out", str(tmp_path / "bad")], capture_output=True,
                             text=True, env=env)

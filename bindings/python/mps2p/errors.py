@@ -68,8 +68,10 @@ class SceneFileError(Error, ValueError):
 
 
 class SnapWarning(UserWarning):
-    """A box side is not a whole number of l0: the C library fills it with
-    whole l0 x l0 cells, so the box holds less than asked (rounded down)."""
+    """A box is not on the l0 lattice. From Scene: a side that is not a whole
+    number of l0 is filled with whole l0 x l0 cells, so the box holds less than
+    asked (rounded down). From a scene file: a corner off the lattice from the
+    origin is moved down onto it (the box may grow at its lower corner)."""
 
 
 BY_STATUS = {

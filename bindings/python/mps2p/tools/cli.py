@@ -73,7 +73,7 @@ def parser():
     run_parser.add_argument("--l0", metavar="L", type=_time, default=None,
                             help="another particle spacing (m) than the scene's (its boxes "
                                  "are put on the new lattice: docs/scene-files.md)")
-    run_parser.add_argument("--threads", metavar="N", type=_threads, default=None,
+    run_parser.add_argument("--threads", metavar="N|auto", type=_threads, default=None,
                             help="threads of the particle loops (parameter threads; 0 = "
                                  "every core; auto = the cores idle as the run starts, "
                                  "since more threads than free cores are many times "
@@ -249,6 +249,8 @@ def _stability(args):
 
     if args.out:  # before the run, not after it: its folder made, or the error now
         from .run import make_output_folder
+        if os.path.isdir(args.out):
+            raise errors.FileError("--out %s: a folder; the report is a file" % args.out)
         make_output_folder(os.path.dirname(os.path.abspath(args.out)))
     report = check_run(args.scene, until=args.until, l0=args.l0, options=options,
                        sample_every=0.05, progress=show)
@@ -296,7 +298,7 @@ def _info(args):
     if args.scene:
         return _check(args)
     if args.l0 is not None:
-        raise errors.SceneFileError("mps2p info: --l0 needs a scene")
+        raise errors.SceneFileError("info: --l0 needs a scene (mps2p info SCENE --l0 L)")
     import mps2p
     print("libmps2p %s" % mps2p.__version__)
     print("library: %s" % mps2p.library_path)

@@ -279,28 +279,45 @@ def _cpu_quota():
 
 
 def idle_cores(sample=0.3):
-    """(idle, cores): how many of the cores this process may run on were idle
-    over `sample` seconds (Linux's /proc/stat; where it cannot be read, all of
-    them). OpenMP's threads wait for each other by spinning: on a machine
-    another job shares, more threads than free cores made the main job's runs
-    4 to 100 times slower (docs/performance.md)."""
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (
-        os.cpu_count() or 1)
+    """(idle, cores): how much of the CPUs this process may run on (its
+    affinity, at most a container's quota) was idle over `sample` seconds,
+    in CPUs, from Linux's /proc/stat (where it cannot be read: all of them).
+    The quota caps the count only: what a container's other jobs use of a
+    host's idle CPUs is not seen. OpenMP's threads wait for each other by
+    spinning: on a machine another job shares, more threads than free cores
+    made the main job's runs 4 to 100 times slower (docs/performance.md)."""
+    allowed = os.sched_getaffinity(0) if hasattr(os, "sched_getaffinity") else None
+    cores = len(allowed) if allowed else (os.cpu_count() or 1)
     cores = max(1, min(cores, _cpu_quota() or cores))
 
     def times():
+        """{cpu: (idle, total)} of the allowed CPUs, in clock ticks"""
+        found = {}
         with open("/proc/stat") as f:
-            values = [int(v) for v in f.readline().split()[1:]]
-        return values[3] + values[4], sum(values)  # idle + iowait, all
+            for line in f:
+                name, *fields = line.split()
+                if not name.startswith("cpu") or name == "cpu":
+                    continue
+                cpu = int(name[3:])
+                if allowed is None or cpu in allowed:
+                    # user nice system idle iowait irq softirq steal (guest time
+                    # is counted in user and nice already)
+                    ticks = [int(v) for v in fields[:8]]
+                    found[cpu] = (ticks[3] + ticks[4], sum(ticks))
+        return found
     try:
-        idle0, total0 = times()
+        before = times()
         clock.sleep(sample)
-        idle1, total1 = times()
+        after = times()
     except (OSError, ValueError, IndexError):
         return float(cores), cores
-    machine = os.cpu_count() or cores
-    share = (idle1 - idle0) / (total1 - total0) if total1 > total0 else 1.0
-    return min(float(cores), share * machine), cores
+    idle = 0.0
+    for cpu, (idle1, total1) in after.items():
+        idle0, total0 = before.get(cpu, (idle1, total1))
+        idle += (idle1 - idle0) / (total1 - total0) if total1 > total0 else 1.0
+    if not after:
+        return float(cores), cores
+    return min(float(cores), idle), cores
 
 
 def make_output_folder(path):

@@ -149,13 +149,17 @@ class SceneFile:
         text = os.environ.get("MPS2P_THREADS", "").strip()
         if not text:
             return 1.0
+        if text == "auto":  # as mps2p run --threads auto
+            from .run import idle_cores
+            idle, cores = idle_cores()
+            return float(max(1, min(cores, round(idle))))
         try:
             value = int(text)
         except ValueError:
             value = -1
         if not 0 <= value <= 1024:
             raise errors.SceneFileError("environment variable MPS2P_THREADS: a thread count "
-                                        "0 to 1024 (0: every core), got %r" % text)
+                                        "0 to 1024 (0: every core) or auto, got %r" % text)
         return float(value)
 
     def make_solver(self):
@@ -256,7 +260,9 @@ class SceneFile:
         moved = []
         for c in box:
             cells = c / self.l0
-            if abs(cells - round(cells)) <= _ON_LATTICE:
+            # beyond 2^52 cells every float is whole (and the C library
+            # refuses such a box): as written
+            if not abs(cells) < 2.0 ** 52 or abs(cells - round(cells)) <= _ON_LATTICE:
                 moved.append(c)
             else:
                 moved.append(math.floor(cells) * self.l0)
