@@ -14,7 +14,7 @@ from .._core import version
 from ..progress import Progress
 from ..results import Results
 from ..scene import KIND_DUMMY, KIND_FLUID, KIND_OUT, KIND_WALL
-from .scenefile import check_schedule, load
+from .scenefile import check_schedule, lattice_box, load
 
 PICTURE_SNAPSHOTS = 6
 
@@ -236,7 +236,8 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False, threads=
             series_picture(os.path.join(out_dir, "series.png"), scene_file.probes, rows,
                            title)
         tanks = scene_file.data.get("tank", [])
-        origin, wall = (tanks[0]["box"][0], tanks[0]["box"][2]) if tanks else (0.0, None)
+        tank = lattice_box(tanks[0]["box"], scene_file.l0) if tanks else None
+        origin, wall = (tank[0], tank[2]) if tank else (0.0, None)
         for p in scene_file.probes:
             if p["type"] == "front" and "compare" in p:
                 k = probes.names.index(p["name"])

@@ -257,15 +257,7 @@ class SceneFile:
         its particles a fraction of a spacing off its neighbours' (the
         pressure solve answers that with a spike) or reached into them
         (refused: drop_into_pool.toml at l0 = 0.015 m)."""
-        moved = []
-        for c in box:
-            cells = c / self.l0
-            # beyond 2^52 cells every float is whole (and the C library
-            # refuses such a box): as written
-            if not abs(cells) < 2.0 ** 52 or abs(cells - round(cells)) <= _ON_LATTICE:
-                moved.append(c)
-            else:
-                moved.append(math.floor(cells) * self.l0)
+        moved = lattice_box(box, self.l0)
         if moved != list(box):
             if moved[2] <= moved[0] or moved[3] <= moved[1]:
                 raise self.error(key, "%s is narrower than l0 = %g m on the lattice of l0 "
@@ -382,6 +374,21 @@ MOST_SCENE_BYTES = 16 << 20
 # A coordinate within this many l0 of a whole number of l0 is on the lattice
 # (the C library's tolerance in counting a box's cells).
 _ON_LATTICE = 1e-6
+
+
+def lattice_box(box, l0):
+    """The box as a scene file builds it at l0: each corner coordinate that is
+    not a whole number of l0 moved down onto the lattice from the origin."""
+    moved = []
+    for c in box:
+        cells = c / l0
+        # beyond 2^52 cells every float is whole (and the C library refuses
+        # such a box): as written
+        if not abs(cells) < 2.0 ** 52 or abs(cells - round(cells)) <= _ON_LATTICE:
+            moved.append(c)
+        else:
+            moved.append(math.floor(cells) * l0)
+    return moved
 
 
 def _rounded(values):
