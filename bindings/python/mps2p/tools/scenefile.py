@@ -100,8 +100,6 @@ class SceneFile:
         self.path = path
         self.text = text
         self.data = data
-        self.fluids = [f["name"] for f in data.get("fluid", [])]
-        self.probes = data.get("probe", [])
 
     # The [run] table's values, read from data (a script may change either:
     # sf.l0 = 0.02 or sf.data["run"]["l0"] = 0.02, before make_solver()).
@@ -119,6 +117,16 @@ class SceneFile:
     series_every = _run_value("series_every", 0.0)
     picture_times = _run_value("picture_times")
     del _run_value
+
+    @property
+    def fluids(self):
+        """The fluids' names, in id order (from data)."""
+        return [f["name"] for f in self.data.get("fluid", [])]
+
+    @property
+    def probes(self):
+        """The [[probe]] tables (from data)."""
+        return self.data.get("probe", [])
 
     @property
     def name(self):
