@@ -407,6 +407,9 @@ def test_progress_off_a_terminal_is_a_line_a_tenth(tmp_path):
     lines = [line for line in result.stderr.splitlines() if "particle-steps/s, ETA" in line]
     assert 2 <= len(lines) <= 11, result.stderr
     assert "t = 0.3 / 0.3 s" in lines[-1]
+    # what is about to run, first: its particles, spacing and end
+    assert result.stderr.splitlines()[0] == ("dam_break: 1282 particles (water 450, wall 202, "
+                                             "dummy 630), l0 = 0.01 m, to t = 0.3 s")
     reached = [float(line.split("t = ")[1].split(" /")[0]) for line in lines]
     assert reached == sorted(set(reached))
 
@@ -462,3 +465,16 @@ def test_elevation_probes_are_checked(tmp_path):
     result = mps2p("check", str(scene))
     assert result.returncode == 2 and "needs ['x']" in result.stderr and \
         "half_width: must be > 0" in result.stderr, result.stderr
+
+
+def test_a_run_of_over_a_million_particles_says_so_first(tmp_path, monkeypatch, capsys):
+    """A scene written in centimetres at l0 = 0.01 builds 10,000 times the
+    particles meant: the command says so before the run (the bound lowered
+    here, not a million particles built)."""
+    from mps2p.tools import run as run_module
+    monkeypatch.setattr(run_module, "LONG_RUN_PARTICLES", 1000)
+    run_module.run(os.path.join(SCENES, "dam_break.toml"), str(tmp_path), until=0.001,
+                   pictures=False, progress=True)
+    first = capsys.readouterr().err.splitlines()[0]
+    assert first.startswith("dam_break: 1282 particles") and \
+        "over 1,000: a long run (are the scene's lengths in metres?)" in first, first

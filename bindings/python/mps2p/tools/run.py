@@ -87,6 +87,11 @@ def particle_counts(solver, fluid_names):
     return counts
 
 
+# More particles than this, and the command says so before the run: a scene
+# written in centimetres at l0 = 0.01 builds 10,000 times the particles meant.
+LONG_RUN_PARTICLES = 1_000_000
+
+
 def run(scene_path, out_dir, until=None, pictures=True, progress=False, threads=None,
         l0=None):
     """Runs the scene file into out_dir; returns the summary (also written as
@@ -142,6 +147,14 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False, threads=
     events = _merged(snapshot_times, series_times, end)
     pictures_data, rows = [], []
     status, reason, diverged_particle = "ok", "", -1
+    if progress is True:  # the command's: what is about to run, before its bar
+        counts = particle_counts(solver, scene_file.fluids)
+        print("%s: %d particles (%s), l0 = %g m, to t = %g s%s"
+              % (scene_file.name, n, ", ".join("%s %d" % kv for kv in counts.items()),
+                 scene_file.l0, end,
+                 "; over %s: a long run (are the scene's lengths in metres?)"
+                 % format(LONG_RUN_PARTICLES, ",") if n > LONG_RUN_PARTICLES else ""),
+              file=sys.stderr, flush=True)
     bar = Progress(end, n, progress)
     started = clock.perf_counter()
     scene_text = scene_file.text
