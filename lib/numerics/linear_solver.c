@@ -222,25 +222,31 @@ static double combine(const double *partial, size_t blocks, int part)
     return sum;
 }
 
-/* x . y over fixed blocks, each summed in order by GSL, the blocks combined
- * in order: the same bits for any number of threads. GSL's error handler is
- * process-wide and the host's to set (its default aborts), so the library
- * leaves it alone and calls GSL only where it cannot fail: every view here
- * is non-empty (a block holds 1 to REDUCTION_BLOCK entries) and the two
- * lengths agree. */
+/* x . y over block b of REDUCTION_BLOCK entries, summed in order by GSL.
+ * GSL's error handler is process-wide and the host's to set (its default
+ * aborts), so the library leaves it alone and calls GSL only where it cannot
+ * fail: every view here is non-empty (a block holds 1 to REDUCTION_BLOCK
+ * entries) and the two lengths agree. */
+static double block_dot(const double *x, const double *y, size_t n, size_t b)
+{
+    size_t first = b * REDUCTION_BLOCK;
+    size_t length = n - first < REDUCTION_BLOCK ? n - first : REDUCTION_BLOCK;
+    gsl_vector_const_view xv = gsl_vector_const_view_array(x + first, length);
+    gsl_vector_const_view yv = gsl_vector_const_view_array(y + first, length);
+    double sum = 0.0;
+    gsl_blas_ddot(&xv.vector, &yv.vector, &sum); /* lengths agree: no error */
+    return sum;
+}
+
+/* x . y over fixed blocks, the blocks combined in order: the same bits for
+ * any number of threads. */
 static double dot(const linear_solver *ls, const double *x, const double *y, size_t n)
 {
     const size_t blocks = block_count(n);
     double *partial = partial_sums(ls, n);
     PARALLEL_FOR(ls->threads, schedule(static) if (n >= VECTOR_PARALLEL_FROM),
     for (size_t b = 0; b < blocks; b++) {
-        size_t first = b * REDUCTION_BLOCK;
-        size_t length = n - first < REDUCTION_BLOCK ? n - first : REDUCTION_BLOCK;
-        gsl_vector_const_view xv = gsl_vector_const_view_array(x + first, length);
-        gsl_vector_const_view yv = gsl_vector_const_view_array(y + first, length);
-        double sum = 0.0;
-        gsl_blas_ddot(&xv.vector, &yv.vector, &sum); /* lengths agree: no error */
-        partial[2 * b] = sum;
+        partial[2 * b] = block_dot(x, y, n, b);
     });
     return combine(partial, blocks, 0);
 }
@@ -570,15 +576,8 @@ static void cg_iterations(cg_run *run, int thread, int team)
         for (size_t i = row0; i < row1; i++)
             q[i] = sparse_dot(a->value, a->column, a->row_start[i], a->row_start[i + 1], p);
         TEAM_BARRIER(team);
-        for (size_t b = block0; b < block1; b++) {
-            size_t first = b * REDUCTION_BLOCK;
-            size_t length = n - first < REDUCTION_BLOCK ? n - first : REDUCTION_BLOCK;
-            gsl_vector_const_view pv = gsl_vector_const_view_array(p + first, length);
-            gsl_vector_const_view qv = gsl_vector_const_view_array(q + first, length);
-            double sum = 0.0;
-            gsl_blas_ddot(&pv.vector, &qv.vector, &sum); /* as dot(): the same bits */
-            partial[PARTIAL_SLOTS * b + SLOT_PQ] = sum;
-        }
+        for (size_t b = block0; b < block1; b++)
+            partial[PARTIAL_SLOTS * b + SLOT_PQ] = block_dot(p, q, n, b);
         TEAM_BARRIER(team);
         double pq = combine_slot(partial, blocks, SLOT_PQ);
         if (!(pq > 0.0))
@@ -612,15 +611,8 @@ static void cg_iterations(cg_run *run, int thread, int team)
                 /* r . z as dot() sums it, without its partial sums (the
                  * team may still be reading this iteration's) */
                 double total = 0.0;
-                for (size_t b = 0; b < blocks; b++) {
-                    size_t first = b * REDUCTION_BLOCK;
-                    size_t length = n - first < REDUCTION_BLOCK ? n - first : REDUCTION_BLOCK;
-                    gsl_vector_const_view rv = gsl_vector_const_view_array(r + first, length);
-                    gsl_vector_const_view zv = gsl_vector_const_view_array(z + first, length);
-                    double sum = 0.0;
-                    gsl_blas_ddot(&rv.vector, &zv.vector, &sum);
-                    total += sum;
-                }
+                for (size_t b = 0; b < blocks; b++)
+                    total += block_dot(r, z, n, b);
                 run->ic0_rz = total;
             }
             TEAM_BARRIER(team);

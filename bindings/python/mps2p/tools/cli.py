@@ -212,12 +212,11 @@ def _examples():
 
 
 def _run(args):
-    from .run import idle_cores, run
+    from .run import auto_threads, run
     from .scenefile import load
     out = args.out or "out/%s" % load(args.scene).name
     if args.threads == "auto":
-        idle, cores = idle_cores()
-        args.threads = max(1, min(cores, round(idle)))
+        args.threads, idle, cores = auto_threads()
         print("mps2p: --threads auto: %d (%.1f of %d cores idle)" % (args.threads, idle, cores),
               file=sys.stderr)
     summary = run(args.scene, out, until=args.until, pictures=not args.no_pictures,

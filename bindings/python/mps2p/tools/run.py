@@ -334,6 +334,13 @@ def idle_cores(sample=0.3):
     return min(float(cores), idle), cores
 
 
+def auto_threads():
+    """(threads, idle, cores): `--threads auto`'s count, the idle cores
+    rounded, at least 1 (idle_cores)."""
+    idle, cores = idle_cores()
+    return max(1, min(cores, round(idle))), idle, cores
+
+
 def make_output_folder(path):
     """Creates the output folder (and its parents), or raises FileError with
     the reason: a file in the way, no permission, a read-only place."""

@@ -158,9 +158,8 @@ class SceneFile:
         if not text:
             return 1.0
         if text == "auto":  # as mps2p run --threads auto
-            from .run import idle_cores
-            idle, cores = idle_cores()
-            return float(max(1, min(cores, round(idle))))
+            from .run import auto_threads
+            return float(auto_threads()[0])
         try:
             value = int(text)
         except ValueError:
