@@ -220,3 +220,16 @@ def test_paper_case_air_leaves_the_water(until):
         assert m["tenth_from"] is not None and m["tenth_from"] < 10.0, m
         assert m["most_after_3s"] <= 1, m
         assert m["most_suspended_from_5s"] < 0.01, m
+
+
+def test_a_variants_tables_are_its_own():
+    """The ladder's variants change a copy of the loaded scene's tables: a
+    change to a copy's [run] values or boxes leaves the scene alone (a
+    shallow copy shared them)."""
+    from mps2p.tools import scenefile
+    sf = scenefile.load(ladder.scene_path("still_water_under_air"))
+    l0, box = sf.l0, list(sf.data["fluid_box"][0]["box"])
+    data = ladder._own_copy(sf)
+    data["run"]["l0"] = 2 * l0
+    data["fluid_box"][0]["box"][0] += 0.05
+    assert sf.l0 == l0 and sf.data["fluid_box"][0]["box"] == box

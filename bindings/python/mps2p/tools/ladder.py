@@ -12,6 +12,7 @@ with --results rung 4's of a run of the paper's case
 (`mps2p run`'s results.h5): water suspended in the air and the widest hole in
 the gas, per snapshot."""
 import argparse
+import copy
 import json
 import math
 import os
@@ -31,17 +32,23 @@ def scene_path(name):
     return os.path.join(SCENES, name + ".toml")
 
 
+def _own_copy(sf):
+    """sf's tables, every level copied: a variant's change (its [run] values
+    too) leaves the loaded scene alone."""
+    return copy.deepcopy(sf.data)
+
+
 def _solver(path, without=None, options=None):
     """The scene's solver; without: a fluid whose boxes are left out (the
     same scene with one phase only)."""
     sf = scenefile.load(path)
     if without is not None:
-        data = dict(sf.data)
+        data = _own_copy(sf)
         data["fluid_box"] = [b for b in data["fluid_box"] if b["fluid"] != without]
         data["fluid"] = [f for f in data["fluid"] if f["name"] != without]
         sf = scenefile.SceneFile(path, sf.text, data)
     if options:
-        data = dict(sf.data)
+        data = _own_copy(sf)
         data["options"] = dict(data.get("options", {}), **options)
         sf = scenefile.SceneFile(path, sf.text, data)
     return sf, sf.make_solver()
@@ -229,7 +236,7 @@ def gas_thrown_up(speed=3.0, until=0.3, buffer=True, sample_every=0.005, path=No
     path = path or scene_path("still_water_under_air")
     sf = scenefile.load(path)
     l0 = sf.l0
-    data = dict(sf.data)
+    data = _own_copy(sf)
     air = [b for b in data["fluid_box"] if b["fluid"] == "air"][0]
     x0, y0, x1, y1 = air["box"]
     middle = x0 + l0 * math.floor((x1 - x0) / (2 * l0))
@@ -319,7 +326,7 @@ def _pool_under_air_around(sf, site, **tables):
     air to 0.6 m, 0.3 m wide, the air left out of the box site = (x0, y0,
     x1, y1), and any other top-level tables replaced by `tables`."""
     x0, y0, x1, y1 = site
-    data = dict(sf.data, **tables)
+    data = dict(_own_copy(sf), **tables)
     data["fluid_box"] = [{"fluid": "water", "box": [0.0, 0.0, 0.3, 0.1]},
             {"fluid": "air", "box": [0.0, 0.1, 0.3, y0]},
             {"fluid": "air", "box": [0.0, y0, x0, y1]},
@@ -427,7 +434,7 @@ def tip_into_wall(air=True, speed=2.5, until=0.15, path=None, depth=3, ramp=0.0)
     if rows != depth or rows < 1:
         raise ValueError("depth is a whole number of spacings, got %r" % (depth,))
     x0, x1, depth = 0.1, 0.25, rows * l0
-    data = dict(sf.data)
+    data = _own_copy(sf)
     data["fluid_box"] = ([{"fluid": "air", "box": [0.0, depth, 0.3, 0.3]},
                           {"fluid": "air", "box": [0.0, 0.0, x0, depth]},
                           {"fluid": "air", "box": [x1, 0.0, 0.3, depth]}] if air else [])
@@ -649,7 +656,7 @@ def paper_case(until=10.0, path=None, parameters=None, sample_every=0.005,
     path = path or scene_path("ikari2003_dam_break_air")
     sf = scenefile.load(path)
     if parameters:
-        data = dict(sf.data)
+        data = _own_copy(sf)
         data["parameters"] = dict(data.get("parameters", {}), **parameters)
         sf = scenefile.SceneFile(path, sf.text, data)
     tank = sf.data["tank"][0]["box"]
