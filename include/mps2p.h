@@ -223,7 +223,10 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *                                 scene (when it grows) and an estimate of a
  *                                 solver (its arrays and the neighbour lists of a
  *                                 filled lattice, about 850 bytes a particle with
- *                                 the defaults) at creation and checkpoint loading:
+ *                                 the defaults; with a team of threads, up to
+ *                                 twice the lists' and the matrix's part, each
+ *                                 thread's run built apart before it is copied
+ *                                 in) at creation and checkpoint loading:
  *                                 MPS2P_ERR_NOMEM beyond it. (With the kernel's
  *                                 overcommit, malloc of too much succeeds and the
  *                                 process is killed later, while writing.)

@@ -56,6 +56,50 @@ static void test_memory_limit(void)
     mps2p_scene_destroy(scene);
 }
 
+/* The bytes a refusal names for a solver of this scene with `threads`. */
+static double refused_bytes(mps2p_scene *scene, double threads)
+{
+    MUST(mps2p_scene_set_param(scene, "threads", threads));
+    MUST(mps2p_scene_set_param(scene, "memory_limit", 1.0));
+    mps2p_solver *solver = NULL;
+    CHECK(mps2p_solver_create(scene, &solver) == MPS2P_ERR_NOMEM && !solver,
+          "a solver under a limit of 1 byte");
+    double bytes = 0.0;
+    const char *take = strstr(mps2p_last_error(), "would take ");
+    CHECK(take && sscanf(take, "would take %lg", &bytes) == 1, "message: %s", mps2p_last_error());
+    return bytes;
+}
+
+/* With a team, each thread's run of the neighbour list and of the matrix is
+ * built apart and copied in: the estimate counts that room (a solver near
+ * the limit is refused with a message, not killed while it builds). */
+static void test_estimate_counts_the_team(void)
+{
+    mps2p_scene *scene;
+    int water;
+    MUST(mps2p_scene_create(0.01, &scene));
+    MUST(mps2p_scene_add_fluid(scene, "water", 1000, 1e-6, &water));
+    MUST(mps2p_scene_add_fluid_box(scene, water, 0, 0, 1, 1));
+    double one = refused_bytes(scene, 1), four = refused_bytes(scene, 4);
+#ifdef LIBRARY_HAS_OPENMP
+    CHECK(four > 1.2 * one && four < 2.0 * one, "estimate %g bytes with 4 threads, %g with 1",
+          four, one);
+    /* a limit between the two: one thread runs, four are refused */
+    MUST(mps2p_scene_set_param(scene, "memory_limit", 0.5 * (one + four)));
+    mps2p_solver *solver = NULL;
+    MUST(mps2p_scene_set_param(scene, "threads", 1));
+    MUST(mps2p_solver_create(scene, &solver));
+    mps2p_solver_destroy(solver);
+    solver = NULL;
+    MUST(mps2p_scene_set_param(scene, "threads", 4));
+    CHECK(mps2p_solver_create(scene, &solver) == MPS2P_ERR_NOMEM && !solver,
+          "4 threads over the limit");
+#else
+    CHECK(four == one, "without OpenMP one thread runs: %g against %g bytes", four, one);
+#endif
+    mps2p_scene_destroy(scene);
+}
+
 /* The default (memory_limit 0) is the memory the system gives the process:
  * a box of 1.5 times the machine's memory is refused at once, without an
  * allocation, whatever the machine (beyond a billion particles it is the
@@ -116,6 +160,7 @@ int main(void)
 {
     test_memory_limit();
     test_default_limit();
+    test_estimate_counts_the_team();
     test_too_many_steps();
     return check_summary("test_limits");
 }

@@ -3,6 +3,7 @@
  * before allocating. */
 #define _POSIX_C_SOURCE 200809L
 #include "core/core.h"
+#include "numerics/numerics.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -69,7 +70,14 @@ double solver_bytes_estimate(const params *p, size_t n)
      * re_laplacian and the diagonal, an int column and a double value each */
     const double matrix = (pi * p->re_laplacian * p->re_laplacian + 1.0) *
                               (sizeof(int) + sizeof(double)) + sizeof(int);
-    return (double)n * (arrays + list + matrix);
+    /* with a team, each thread's run of the list and of the matrix but the
+     * first is built in room of its own and then copied in: up to
+     * (threads - 1) / threads of their indices and entries held twice */
+    const int team = team_size(p->threads);
+    const double staged = (double)(team - 1) / team *
+                          (pairs * sizeof(uint32_t) +
+                           pi * p->re_laplacian * p->re_laplacian * (sizeof(int) + sizeof(double)));
+    return (double)n * (arrays + list + matrix + staged);
 }
 
 int memory_check(const params *p, double bytes, const char *what, char *handle_error)
