@@ -388,7 +388,10 @@ MPS2P_API int mps2p_solver_step(mps2p_solver *solver);
  * free it at once: the run stops after the callback, the solver is freed
  * when mps2p_solver_advance_to returns, and that returns MPS2P_ERR_STATE
  * ("destroyed") - the caller must not use the solver afterwards. Other
- * solvers may be used freely. */
+ * solvers may be used freely. A C++ exception thrown from the callback
+ * passes to the caller of mps2p_solver_advance_to and ends the run: the
+ * solver keeps the state of the step before the callback and may be stepped
+ * again (or, destroyed from inside, is freed). Do not longjmp out of it. */
 typedef int (*mps2p_progress_fn)(const mps2p_solver *solver, void *user_data);
 
 /* Steps until the time reaches end_time exactly: each step is the remaining
@@ -635,7 +638,9 @@ MPS2P_API int mps2p_scene_add_body_particles(mps2p_scene *scene, const char *nam
                                              const int *kinds, int *body_id);
 /* Moves the solid particles already in the scene whose position lies in
  * [x0,x1] x [y0,y1] into body name (e.g. one wall of a tank).
- * MPS2P_ERR_INVALID when the box holds none. */
+ * MPS2P_ERR_INVALID when the box holds none. A tank's floor layers run under
+ * its side walls: for a side wall alone start the box at the floor's top
+ * (y0 = the tank's y0), or it takes the corner's particles and their load. */
 MPS2P_API int mps2p_scene_assign_body(mps2p_scene *scene, const char *name,
                                       double x0, double y0, double x1, double y1,
                                       int *body_id);

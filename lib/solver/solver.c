@@ -369,8 +369,9 @@ static int step_with(mps2p_solver *s, double dt, double ppe_min_dt)
 {
     if (s->diverged)
         return fail(s->error, MPS2P_ERR_STATE,
-                    "the solver diverged at t = %.6g s; it keeps its last good state but "
-                    "cannot step further", s->time);
+                    "the solver diverged in step %llu, from its last good state at t = %.6g s, "
+                    "which it keeps; it cannot step further",
+                    (unsigned long long)s->steps + 1, s->time);
     if (s->plan_stale) {
         int status = plan_build(s);
         if (status != MPS2P_OK)
@@ -403,6 +404,27 @@ int mps2p_solver_step(mps2p_solver *s)
         return status;
     return step_with(s, timestep_choose(s), 0.0);
 }
+
+/* The end of a run that a progress callback left by a C++ exception: with
+ * -fexceptions (lib/meson.build) the unwinding runs this cleanup, so the
+ * solver is not left "running" (every later call refused, destroy freeing
+ * nothing), and a destroy asked for before the throw is done. NULL: the run
+ * returned. */
+static void end_unwound_run(mps2p_solver **run)
+{
+    mps2p_solver *s = *run;
+    if (!s)
+        return;
+    s->running = 0;
+    if (s->destroy_requested)
+        solver_free(s);
+}
+
+#if defined(__GNUC__)
+#define ENDS_AN_UNWOUND_RUN __attribute__((cleanup(end_unwound_run)))
+#else
+#define ENDS_AN_UNWOUND_RUN
+#endif
 
 /* The steps of mps2p_solver_advance_to, with s->running set. */
 static int advance(mps2p_solver *s, double end_time, mps2p_progress_fn progress,
@@ -460,7 +482,9 @@ int mps2p_solver_advance_to(mps2p_solver *s, double end_time, mps2p_progress_fn 
                     "end time must be finite and not before the current time %.9g s, got %g",
                     s->time, end_time);
     s->running = 1;
+    mps2p_solver *unwinding ENDS_AN_UNWOUND_RUN = s;
     status = advance(s, end_time, progress, user_data);
+    unwinding = NULL;
     s->running = 0;
     if (s->destroy_requested) {
         solver_free(s);
