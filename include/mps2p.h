@@ -171,8 +171,10 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *   diffusion_number        0.2   adaptive dt <= diffusion_number l0^2 / nu
  *   gravity_number        * 0.03  adaptive dt <= gravity_number sqrt(l0 / |g|);
  *                                 0 = no such limit (0)
- *   dt_max                  0     largest adaptive dt (s); 0 = cfl l0 / sqrt(2 |g| H),
- *                                 H the height of the initial fluid
+ *   dt_max                  0     largest adaptive dt (s); 0 = cfl l0 / U, U the
+ *                                 larger of sqrt(2 |g| H) (H the height of the
+ *                                 initial fluid) and its fastest initial speed
+ *                                 (1 m/s when both are 0)
  *   collision_distance    * 0.995 too-close distance, in l0; 0 = no collision
  *                                 model (0.5)
  *   collision_time        * 0.03  the collision model gives dt / tau of its

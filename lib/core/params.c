@@ -33,7 +33,8 @@ static const param_entry table[] = {
     {"gravity_number", FIELD(gravity_number), 0.03, 0.0, 1.0,
      "adaptive dt <= gravity_number sqrt(l0 / |g|); 0 = no such limit"},
     {"dt_max", FIELD(dt_max), 0.0, 0.0, BIG,
-     "largest adaptive dt (s); 0 = cfl l0 / sqrt(2 |g| H), H the initial fluid height"},
+     "largest adaptive dt (s); 0 = cfl l0 / max(sqrt(2 |g| H), the fastest initial fluid speed), "
+     "H the initial fluid height"},
     {"collision_distance", FIELD(collision_distance), 0.995, 0.0, 1.0,
      "too-close distance of the collision model, in l0; 0 = off"},
     {"collision_time", FIELD(collision_time), 0.03, 0.0, 1e6,
