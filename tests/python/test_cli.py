@@ -1,5 +1,6 @@
 """The mps2p command, as a user runs it."""
 import json
+import math
 import os
 import subprocess
 import sys
@@ -454,6 +455,18 @@ def test_a_wave_gauge_reads_the_waters_top(tmp_path):
     with mps2p_package.open_results(str(out / "results.h5")) as results:
         assert results.series["gauge"].shape[0] == len(rows)
         assert "dry" not in results.series or results.series["dry"].shape[0] == 0
+
+
+def test_a_wave_gauge_is_not_read_off_spray():
+    """A drop passing above the water (a gap of more than 2 l0) is not the
+    water's top; the column's own gaps (up to 2 l0) are water."""
+    from mps2p.tools.run import water_top
+    l0 = 0.01
+    column = [0.005 + l0 * k for k in range(10)]  # water up to 0.1 m
+    assert water_top(column, l0) == pytest.approx(0.1)
+    assert water_top(column + [0.5, 0.51], l0) == pytest.approx(0.1)
+    assert water_top(column + [column[-1] + 1.9 * l0], l0) == pytest.approx(0.119)
+    assert math.isnan(water_top([], l0))
 
 
 def test_elevation_probes_are_checked(tmp_path):

@@ -339,6 +339,10 @@ def test_a_box_off_the_lattice_is_moved_onto_it_and_said(tmp_path):
     with pytest.raises(mps2p.SceneFileError, match=r"fluid_box\[1\]: .* is narrower than "
                                                    r"l0 = 0.02 m on the lattice"):
         scenefile.load(narrow).build()
+    low = write(tmp_path, text.replace("[0.2, 0.05, 0.31, 0.1]", "[0.2, 0.05, 0.3, 0.055]"),
+                "low.toml")
+    with pytest.raises(mps2p.SceneFileError, match=r"fluid_box\[1\]: .* is lower than "):
+        scenefile.load(low).build()
 
 
 def test_a_changed_run_table_is_what_is_built(tmp_path):

@@ -383,7 +383,8 @@ class Solver(Owned):
 
     def front(self, fluid_id=-1, below=None):
         """Surge front: the largest x of the fluid's particles (any fluid for
-        fluid_id -1) lower than `below` (m), plus l0/2."""
+        fluid_id -1) lower than `below` (m), plus l0/2. InvalidArgumentError
+        when none is that low (a scene file's front probe records nan)."""
         x = ffi.new("double *")
         check(lib.mps2p_solver_front(self.handle, index(fluid_id, "fluid_id"),
                                      real(below if below is not None else float("inf"), "below"), x))

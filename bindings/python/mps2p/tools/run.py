@@ -17,6 +17,10 @@ from ..scene import KIND_DUMMY, KIND_FLUID, KIND_OUT, KIND_WALL
 from .scenefile import check_schedule, lattice_box, load
 
 PICTURE_SNAPSHOTS = 6
+# A vertical gap in the fluid at a wave gauge wider than this (in l0) is air:
+# what lies above it (spray, a drop falling past) is not the water's top. A
+# column on the lattice, or disordered, has gaps of 1-1.5 l0.
+GAUGE_GAP = 2.0
 
 
 class Probes:
@@ -42,16 +46,12 @@ class Probes:
                 except errors.InvalidArgumentError:
                     values.append(float("nan"))  # no particle of that fluid low enough
             elif kind == "elevation":
-                # a wave gauge: the top of the fluid's particles within
-                # half_width of x, plus half a spacing (the water's top); nan
-                # where none is (dry)
                 if positions is None:
                     positions, kinds = solver.positions(), solver.kinds()
                     fluid_ids = solver.fluid_ids()
                 near = ((kinds == KIND_FLUID) & (fluid_ids == self.fluid_ids[p["fluid"]]) &
                         (np.abs(positions[:, 0] - p["x"]) <= p.get("half_width", self.l0)))
-                values.append(float(positions[near, 1].max()) + 0.5 * self.l0
-                              if near.any() else float("nan"))
+                values.append(water_top(positions[near, 1], self.l0))
             elif kind == "count":
                 if fluid_ids is None:
                     fluid_ids = solver.fluid_ids()
@@ -59,6 +59,20 @@ class Probes:
             else:
                 values.append(solver.stat(p["stat"]))
         return values
+
+
+def water_top(heights, l0):
+    """A wave gauge's reading from the heights of the fluid's particles at
+    it: the top of the column that rises from the lowest of them through
+    gaps of at most GAUGE_GAP l0, plus half a spacing (the water's top), as
+    a wire gauge reads the water that wets it from below; spray above a
+    larger gap is not the water's top. nan where there is none (dry)."""
+    if len(heights) == 0:
+        return float("nan")
+    heights = np.sort(heights)
+    gaps = np.flatnonzero(np.diff(heights) > GAUGE_GAP * l0)
+    top = heights[gaps[0]] if len(gaps) else heights[-1]
+    return float(top) + 0.5 * l0
 
 
 def _schedule(end_time, every):
@@ -205,7 +219,7 @@ def run(scene_path, out_dir, until=None, pictures=True, progress=False, threads=
         "time": solver.time,
         "steps": steps,
         "wall_seconds": wall,
-        "threads": scene_file.threads(),
+        "threads": int(scene_file.threads()),  # a count (the parameter is a double)
         "threads_used": solver.stat("threads"),
         "stage_seconds": {k: v["seconds"] for k, v in stages.items() if v["active"]},
         "stage_calls": {k: v["calls"] for k, v in stages.items() if v["active"]},

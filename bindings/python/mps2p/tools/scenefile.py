@@ -150,7 +150,7 @@ class SceneFile:
     def threads(self):
         """The solver's parameter threads: the file's (or `mps2p run
         --threads`), else the environment variable MPS2P_THREADS (as the
-        benchmarks read it; 0 = every core), else 1. The results do not depend
+        benchmarks read it; 0 = OpenMP's default), else 1. The results do not depend
         on it."""
         if "threads" in self.data.get("parameters", {}):
             return float(self.data["parameters"]["threads"])
@@ -267,8 +267,9 @@ class SceneFile:
         moved = lattice_box(box, self.l0)
         if moved != list(box):
             if moved[2] <= moved[0] or moved[3] <= moved[1]:
-                raise self.error(key, "%s is narrower than l0 = %g m on the lattice of l0 "
-                                 "(%s)" % (list(box), self.l0, _rounded(moved)))
+                raise self.error(key, "%s is %s than l0 = %g m on the lattice of l0 (%s)"
+                                 % (list(box), "narrower" if moved[2] <= moved[0] else "lower",
+                                    self.l0, _rounded(moved)))
             warnings.warn("%s: %s: %s moved onto the lattice of l0 = %g m: %s"
                           % (self.path, key, list(box), self.l0, _rounded(moved)),
                           errors.SnapWarning, stacklevel=4)
