@@ -181,12 +181,21 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *                                 impulse a step (at most all), tau =
  *                                 collision_time sqrt(l0 / |g|): its rate does
  *                                 not grow as dt shrinks; 0 = all every step (0)
+ *   collision_core        * 0.5   in l0: a pair closer than it after the move
+ *                                 loses its whole approach in the step, whatever
+ *                                 collision_time (two spray particles meeting
+ *                                 head on otherwise overlap); 0 = none (0.5)
  *   collision_restitution   0.2   restitution of the collision model
  *   shifting              * 0.04  particle shifting: a fluid particle off the free
  *                                 surface moves shifting u_max dt sum_j
  *                                 (rbar_i / r_ij)^2 e_ji a step (u_max the fastest
  *                                 fluid speed), away from close neighbours (single
  *                                 phase); 0 = off (0)
+ *   ppe_step_gain         * 1     share of this step's compression, n* - n^k,
+ *                                 that the ecs and mixed sources answer in the
+ *                                 step (0.4: the pressure's step-to-step scatter
+ *                                 a quarter to two fifths lower, docs/validation.md;
+ *                                 not yet the default) (1)
  *   ppe_relaxation          0.2   factor on the PPE source term
  *   compressibility         4.5e-10  1/Pa, on the PPE diagonal; keeps a fluid
  *                                 cluster without free surface solvable
@@ -266,11 +275,11 @@ MPS2P_API int mps2p_scene_get_param(const mps2p_scene *scene, const char *key,
  *                     Gotoh); "minimum" (koshizuka1996): Koshizuka and Oka's
  *                     gradient with p^_i = min of the neighbours' pressures
  *                     as reference (docs/method.md, the paper's form)
- *   ppe_source        "ecs" (default): (n* - n^k) + |n^k - n0|/n0 (n^k - n0),
+ *   ppe_source        "ecs" (default): a (n* - n^k) + |n^k - n0|/n0 (n^k - n0),
  *                     an error-compensating form; "density" (koshizuka1996):
  *                     gamma (n* - n0), gamma = ppe_relaxation; "mixed":
- *                     (n* - n^k) + gamma (n^k - n0) (all over n0, times
- *                     rho/dt^2)
+ *                     a (n* - n^k) + gamma (n^k - n0) (all over n0, times
+ *                     rho/dt^2; a = ppe_step_gain)
  *   wall_ghosts       "hydrostatic" (default): a dummy wall, or a wall on the
  *                     free surface, takes p_i + rho_i g . r_ij seen from
  *                     particle i, in the PPE and the gradient; "none"

@@ -160,6 +160,8 @@ typedef struct params {
     double collision_time;
     double collision_restitution;
     double shifting;
+    double ppe_step_gain;      /* share of this step's compression the ecs/mixed source answers */
+    double collision_core;     /* in l0: inside it a pair's approach goes whole in one step */
     double ppe_relaxation;
     double compressibility;
     double clamp_negative_pressure;
@@ -335,11 +337,14 @@ struct mps2p_solver {
      * state (NULL without): the neighbours a particle's viscosity sees (all
      * where viscosity_mask is NULL or viscosity_unmasked[i] is set), and the
      * share of a collision's impulse fluid particle i takes from fluid
-     * particle j (below 0: they do not collide; NULL: by mass), and whether
+     * particle j (below 0: they do not collide; NULL: by mass), and where
      * the pair's impulse comes whole this step rather than at the damper's
-     * rate (*whole set to 1). */
+     * rate (*whole: one of WHOLE_*). */
     const unsigned char *viscosity_mask, *viscosity_unmasked;
     double (*collision_share)(const mps2p_solver *s, size_t i, size_t j, int *whole);
+#define WHOLE_NEVER 0   /* the damper's rate at any distance */
+#define WHOLE_IN_CORE 1 /* whole closer than collision_core */
+#define WHOLE_IN_HALF 2 /* whole closer than half a spacing, whatever collision_core */
 
     /* pressure solve */
     sparse_matrix matrix;

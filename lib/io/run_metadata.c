@@ -104,6 +104,16 @@ int h5_read_parameters(h5_context *ctx, hid_t file, params *out)
             *before = 0.0;
             continue;
         }
+        /* files from before ppe_step_gain answered the step's compression in
+         * full; from before collision_core: no core */
+        if (strcmp(key, "ppe_step_gain") == 0 && H5Aexists(group, key) == 0) {
+            out->ppe_step_gain = 1.0;
+            continue;
+        }
+        if (strcmp(key, "collision_core") == 0 && H5Aexists(group, key) == 0) {
+            out->collision_core = 0.0;
+            continue;
+        }
         status = h5_read_attribute(ctx, group, key, H5T_NATIVE_DOUBLE, 1, &value);
         if (status == 0 && params_set(out, key, value, message, sizeof message) != MPS2P_OK) {
             h5_note_text(ctx, "%s", message);

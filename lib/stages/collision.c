@@ -28,6 +28,7 @@ int collision_apply(mps2p_solver *s, double dt)
     const double g = hypot(acting[0], acting[1]);
     const double tau = g > 0.0 ? s->params.collision_time * sqrt(s->l0 / g) : 0.0;
     const double fraction = tau > 0.0 ? fmin(1.0, dt / tau) : 1.0;
+    const double core = s->params.collision_core * s->l0;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, limit);
     double *position = s->state.position, *velocity = s->state.velocity;
     double *updated = s->scratch;
@@ -58,7 +59,7 @@ int collision_apply(mps2p_solver *s, double dt)
             if (approach <= 0.0)
                 continue;
             double share = 1.0; /* a wall's */
-            int whole = 0;
+            int whole = WHOLE_IN_CORE;
             if (s->kind[j] == MPS2P_KIND_FLUID) {
                 /* by mass, unless another part gives the rule (the two phases) */
                 share = s->collision_share ? s->collision_share(s, i, j, &whole)
@@ -66,9 +67,12 @@ int collision_apply(mps2p_solver *s, double dt)
                 if (share < 0.0)
                     continue;
             }
-            /* whole: the impulse in full inside half a spacing (Koshizuka and
-             * Oka's collision distance), the damper's rate outside it */
-            double given = whole && r < 0.5 * s->l0 ? 1.0 : fraction;
+            /* whole: the impulse in full inside the core (a pair the damper's
+             * rate let close to within half a spacing, two spray particles
+             * meeting head on, overlaps in the next step: its number density
+             * then asks a pressure of 1e9 Pa), the damper's rate outside it */
+            double inside = whole == WHOLE_IN_HALF ? 0.5 * s->l0 : whole ? core : 0.0;
+            double given = r < inside ? 1.0 : fraction;
             double impulse = given * (1.0 + e) * share * approach;
             updated[2 * i] -= impulse * nx;
             updated[2 * i + 1] -= impulse * ny;

@@ -58,25 +58,30 @@ static int takes_part(const mps2p_solver *s, const ppe_system *sys, size_t j)
 
 /* The PPE source, rho/dt^2 times a number-density deviation over n0:
  *   density  gamma (n* - n0): Koshizuka and Oka, the whole deviation relaxed;
- *   mixed    (n* - n^k) + gamma (n^k - n0): this step's change (the velocity
- *            divergence, measured with the number density itself) in full,
- *            the drift accumulated before it relaxed (after Tanaka and
- *            Masunaga 2010);
- *   ecs      (n* - n^k) + |e| (n^k - n0), e = (n^k - n0)/n0: as mixed, with
+ *   mixed    a (n* - n^k) + gamma (n^k - n0): this step's change (the
+ *            velocity divergence, measured with the number density itself)
+ *            times a = ppe_step_gain, the drift accumulated before it
+ *            relaxed (after Tanaka and Masunaga 2010);
+ *   ecs      a (n* - n^k) + |e| (n^k - n0), e = (n^k - n0)/n0: as mixed, with
  *            the drift's factor the error itself, after Khayyer and Gotoh's
  *            error-compensating source (a simplified form, not theirs
- *            exactly): noise-sized errors are hardly amplified by 1/dt^2. */
+ *            exactly): noise-sized errors are hardly amplified by 1/dt^2.
+ * The step's change in full (a = 1, both schemes) over-answers it: still
+ * water's first step overshoots 2.4 times and rings, and a flow's pressure
+ * scatters from step to step; a = 0.4 takes a quarter of a turning stream's
+ * scatter off, its mean unchanged (docs/validation.md). */
 static double source_term(const mps2p_solver *s, const ppe_system *sys, size_t i, double dt)
 {
     const double n0 = s->n0_density, gamma = s->params.ppe_relaxation;
+    const double gain = s->params.ppe_step_gain;
     const double scale = sys->density[i] / (dt * dt) / n0;
     const double n_star = sys->n_star[i];
     if (s->params.ppe_source == PPE_SOURCE_DENSITY || sys->density_source)
         return scale * gamma * (n_star - n0);
     const double n_start = sys->n_start[i]; /* allocated for these sources only */
     if (s->params.ppe_source == PPE_SOURCE_MIXED)
-        return scale * ((n_star - n_start) + gamma * (n_start - n0));
-    return scale * ((n_star - n_start) + fabs(n_start - n0) / n0 * (n_start - n0));
+        return scale * (gain * (n_star - n_start) + gamma * (n_start - n0));
+    return scale * (gain * (n_star - n_start) + fabs(n_start - n0) / n0 * (n_start - n0));
 }
 
 /* The stage workspace: every stage fills it before reading it, and only the

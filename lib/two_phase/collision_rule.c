@@ -5,18 +5,20 @@
  * particle, which then joined the liquid solve at n/n0 = 3.3 and the run
  * diverged: docs/two-phase.md), and a light particle that joined the
  * liquid solve (last step) collides as liquid, half each. Particles of one
- * phase share by mass, as without two phases. */
+ * phase share by mass, and come whole inside collision_core, as without two
+ * phases. */
 #include "core/core.h"
 #include "two_phase/two_phase.h"
 
 double phases_collision_share(const mps2p_solver *s, size_t i, size_t j, int *whole)
 {
     const two_phase *tp = s->phases;
-    *whole = 0;
+    *whole = WHOLE_IN_CORE; /* as without two phases */
     if (tp->light[i] == tp->light[j])
         return s->density[j] / (s->density[i] + s->density[j]);
     if (tp->joined[tp->light[i] ? i : j])
         return 0.5;
-    *whole = tp->light[i] && tp->improved; /* the paper's conventional model as it was */
+    /* the paper's conventional model as it was */
+    *whole = tp->light[i] && tp->improved ? WHOLE_IN_HALF : WHOLE_NEVER;
     return tp->light[i] ? 1.0 : -1.0;
 }

