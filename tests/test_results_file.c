@@ -359,6 +359,9 @@ int main(void)
     printf("missing directory: %s\n", message);
     CHECK(status == MPS2P_ERR_IO, "missing directory: %s", mps2p_status_string(status));
     CHECK(strstr(message, missing) != NULL, "message \"%s\" does not name the path", message);
+    /* the system's reason, without HDF5's driver flags */
+    CHECK(strstr(message, "No such file or directory") && !strstr(message, "o_flags"),
+          "message \"%s\" does not give the reason plainly", message);
     CHECK(results == NULL, "handle not NULL after a failure");
     CHECK(null_path == MPS2P_ERR_NULL && null_solver == MPS2P_ERR_NULL &&
               null_output == MPS2P_ERR_NULL, "NULL arguments: %d %d %d", null_path,

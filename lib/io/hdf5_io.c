@@ -70,12 +70,33 @@ void h5_context_init(h5_context *ctx, const char *role, const char *path)
     ctx->detail[0] = '\0';
 }
 
+/* HDF5's file driver says "unable to open file: name = '...', errno = 2,
+ * error message = 'No such file or directory', flags = ..., o_flags = ...":
+ * the message names the file already, so keep what failed and the system's
+ * reason ("unable to open file: No such file or directory"). 0 when the text
+ * is not of that form. */
+static int system_reason(const char *desc, char *out, size_t size)
+{
+    const char *name = strstr(desc, ": name = ");
+    const char *reason = strstr(desc, "error message = '");
+    if (!name || !reason)
+        return 0;
+    reason += strlen("error message = '");
+    const char *end = strchr(reason, '\'');
+    if (!end)
+        return 0;
+    snprintf(out, size, "%.*s: %.*s", (int)(name - desc), desc, (int)(end - reason), reason);
+    return 1;
+}
+
 /* The walk starts at the innermost record: the most specific reason. */
 static herr_t take_innermost(unsigned n, const H5E_error2_t *error, void *data)
 {
     h5_context *ctx = data;
-    if (n == 0 && error->desc && error->desc[0])
-        snprintf(ctx->detail, sizeof ctx->detail, "%s", error->desc);
+    if (n == 0 && error->desc && error->desc[0]) {
+        if (!system_reason(error->desc, ctx->detail, sizeof ctx->detail))
+            snprintf(ctx->detail, sizeof ctx->detail, "%s", error->desc);
+    }
     else if (n == 0 && error->func_name)
         snprintf(ctx->detail, sizeof ctx->detail, "HDF5 error in %s", error->func_name);
     return 0;
