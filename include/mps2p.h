@@ -21,7 +21,11 @@
  *     and a non-const call on a handle also keeps it on the handle
  *     (mps2p_scene_last_error, mps2p_solver_last_error: the last failure on
  *     that handle); on success mps2p_last_error() is "";
- *   - handles are opaque; destroy functions accept NULL;
+ *   - MPS2P_STOPPED (1) is not an error: a progress callback stopped a run;
+ *   - handles are opaque; destroy functions accept NULL; a function that
+ *     makes a handle (mps2p_scene_create, mps2p_solver_create,
+ *     mps2p_solver_load_checkpoint, mps2p_results_create) sets it to NULL
+ *     when it fails;
  *   - arrays are copied into caller buffers whose length (in elements) is
  *     passed explicitly; vectors are interleaved (x0, y0, x1, y1, ...);
  *   - SI units throughout (m, s, kg/m^3, m^2/s, Pa).
