@@ -185,10 +185,14 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *                                 impulse a step (at most all), tau =
  *                                 collision_time sqrt(l0 / |g|): its rate does
  *                                 not grow as dt shrinks; 0 = all every step (0)
- *   collision_core        * 0.5   in l0: a pair closer than it after the move
- *                                 loses its whole approach in the step, whatever
+ *   collision_core        * 0.5   in l0: a pair closer than it (and than
+ *                                 collision_distance) after the move loses its
+ *                                 whole approach in the step, whatever
  *                                 collision_time (two spray particles meeting
- *                                 head on otherwise overlap); 0 = none (0.5)
+ *                                 head on otherwise overlap); air meeting water
+ *                                 keeps the two-phase model's rule (whole inside
+ *                                 0.5 l0 in the improved model, never in the
+ *                                 conventional one); 0 = none (0.5)
  *   collision_restitution   0.2   restitution of the collision model
  *   shifting              * 0.04  particle shifting: a fluid particle off the free
  *                                 surface moves shifting u_max dt sum_j
@@ -197,9 +201,10 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *                                 phase); 0 = off (0)
  *   ppe_step_gain         * 1     share of this step's compression, n* - n^k,
  *                                 that the ecs and mixed sources answer in the
- *                                 step (0.4: the pressure's step-to-step scatter
- *                                 a quarter to two fifths lower, docs/validation.md;
- *                                 not yet the default) (1)
+ *                                 step (0.4: a turning stream's wall-pressure
+ *                                 scatter a quarter lower, Buchner's probe noise
+ *                                 and the dam break's spray two fifths lower,
+ *                                 docs/validation.md; not yet the default) (1)
  *   ppe_relaxation          0.2   factor on the PPE source term
  *   compressibility         4.5e-10  1/Pa, on the PPE diagonal; keeps a fluid
  *                                 cluster without free surface solvable
@@ -238,10 +243,11 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *                                 scene (when it grows) and an estimate of a
  *                                 solver (its arrays and the neighbour lists of a
  *                                 filled lattice, about 850 bytes a particle with
- *                                 the defaults; with a team of threads, up to
- *                                 twice the lists' and the matrix's part, each
- *                                 thread's run built apart before it is copied
- *                                 in) at creation and checkpoint loading:
+ *                                 the defaults; with a team of threads, the
+ *                                 lists' or the matrix's part, the larger, up
+ *                                 to twice: each thread's run is built apart
+ *                                 before it is copied in) at creation and
+ *                                 checkpoint loading:
  *                                 MPS2P_ERR_NOMEM beyond it. (With the kernel's
  *                                 overcommit, malloc of too much succeeds and the
  *                                 process is killed later, while writing.)
@@ -404,6 +410,7 @@ MPS2P_API int mps2p_solver_step(mps2p_solver *solver);
  * when mps2p_solver_advance_to returns, and that returns MPS2P_ERR_STATE
  * ("destroyed") - the caller must not use the solver afterwards. Other
  * solvers may be used freely. A C++ exception thrown from the callback
+ * (in a GCC or Clang build of the library, which unwinds through it)
  * passes to the caller of mps2p_solver_advance_to and ends the run: the
  * solver keeps the state of the step before the callback and may be stepped
  * again (or, destroyed from inside, is freed). Do not longjmp out of it. */

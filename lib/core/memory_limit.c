@@ -70,13 +70,14 @@ double solver_bytes_estimate(const params *p, size_t n)
      * re_laplacian and the diagonal, an int column and a double value each */
     const double matrix = (pi * p->re_laplacian * p->re_laplacian + 1.0) *
                               (sizeof(int) + sizeof(double)) + sizeof(int);
-    /* with a team, each thread's run of the list and of the matrix but the
-     * first is built in room of its own and then copied in: up to
-     * (threads - 1) / threads of their indices and entries held twice */
+    /* with a team, each thread's run of the list or of the matrix but the
+     * first is built in room of its own and then copied in (and freed: the
+     * two are never held at once): up to (threads - 1) / threads of the
+     * larger held twice */
     const int team = team_size(p->threads);
     const double staged = (double)(team - 1) / team *
-                          (pairs * sizeof(uint32_t) +
-                           pi * p->re_laplacian * p->re_laplacian * (sizeof(int) + sizeof(double)));
+                          fmax(pairs * sizeof(uint32_t),
+                               pi * p->re_laplacian * p->re_laplacian * (sizeof(int) + sizeof(double)));
     return (double)n * (arrays + list + matrix + staged);
 }
 

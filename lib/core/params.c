@@ -41,8 +41,9 @@ static const param_entry table[] = {
      "the collision model gives dt / tau of its impulse a step (at most all), tau = "
      "collision_time sqrt(l0 / |g|); 0, or no gravity, = all of it every step"},
     {"collision_core", FIELD(collision_core), 0.5, 0.0, 1.0,
-     "in l0: a pair closer than it after the move loses its whole approach in the step, "
-     "whatever collision_time (Koshizuka and Oka's collision distance); 0 = none"},
+     "in l0: a pair closer than it (and than collision_distance) after the move loses its "
+     "whole approach in the step, whatever collision_time (Koshizuka and Oka's collision "
+     "distance; air meeting water keeps its own rules); 0 = none"},
     {"collision_restitution", FIELD(collision_restitution), 0.2, 0.0, 1.0,
      "restitution coefficient of the collision model"},
     {"shifting", FIELD(shifting), 0.04, 0.0, 1.0,
@@ -539,9 +540,9 @@ int mps2p_param_count(size_t *count)
 
 /* The options, then "scheme" (it sets several of the others). */
 #define SCHEME_DESCRIPTION                                                                 \
-    "sets pressure_gradient, ppe_source, wall_ghosts, surface_pressure, re_laplacian, "    \
-    "collision_distance, collision_time, gravity_number and shifting together "            \
-    "(docs/validation.md); reads custom once one of them differs"
+    "sets pressure_gradient, ppe_source, ppe_step_gain, wall_ghosts, surface_pressure, "   \
+    "re_laplacian, collision_distance, collision_time, collision_core, gravity_number "    \
+    "and shifting together (docs/validation.md); reads custom once one of them differs"
 
 int mps2p_option_count(size_t *count)
 {

@@ -91,7 +91,8 @@ int h5_read_parameters(h5_context *ctx, hid_t file, params *out)
          * ladder: the paper's trigger, no whole bubbles joining; from before
          * particle shifting: none; from before
          * the gas's damping layer: an open top; from before out_limit: any
-         * fluid particle leaving the domain diverges */
+         * fluid particle leaving the domain diverges; from before
+         * collision_core: no core */
         double *before = strcmp(key, "gravity_number") == 0   ? &out->gravity_number
                          : strcmp(key, "collision_time") == 0 ? &out->collision_time
                          : strcmp(key, "trigger_speed") == 0  ? &out->trigger_speed
@@ -99,19 +100,16 @@ int h5_read_parameters(h5_context *ctx, hid_t file, params *out)
                          : strcmp(key, "gas_buffer_depth") == 0 ? &out->gas_buffer_depth
                          : strcmp(key, "out_limit") == 0      ? &out->out_limit
                          : strcmp(key, "shifting") == 0       ? &out->shifting
+                         : strcmp(key, "collision_core") == 0 ? &out->collision_core
                                                               : NULL;
         if (before && H5Aexists(group, key) == 0) {
             *before = 0.0;
             continue;
         }
         /* files from before ppe_step_gain answered the step's compression in
-         * full; from before collision_core: no core */
+         * full (1, whatever the default becomes) */
         if (strcmp(key, "ppe_step_gain") == 0 && H5Aexists(group, key) == 0) {
             out->ppe_step_gain = 1.0;
-            continue;
-        }
-        if (strcmp(key, "collision_core") == 0 && H5Aexists(group, key) == 0) {
-            out->collision_core = 0.0;
             continue;
         }
         status = h5_read_attribute(ctx, group, key, H5T_NATIVE_DOUBLE, 1, &value);

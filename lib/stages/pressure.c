@@ -68,8 +68,9 @@ static int takes_part(const mps2p_solver *s, const ppe_system *sys, size_t j)
  *            exactly): noise-sized errors are hardly amplified by 1/dt^2.
  * The step's change in full (a = 1, both schemes) over-answers it: still
  * water's first step overshoots 2.4 times and rings, and a flow's pressure
- * scatters from step to step; a = 0.4 takes a quarter of a turning stream's
- * scatter off, its mean unchanged (docs/validation.md). */
+ * scatters from step to step; a = 0.4 takes a quarter off a turning stream's
+ * wall-pressure scatter, its mean unchanged, and two fifths off Buchner's
+ * probe noise (docs/validation.md). */
 static double source_term(const mps2p_solver *s, const ppe_system *sys, size_t i, double dt)
 {
     const double n0 = s->n0_density, gamma = s->params.ppe_relaxation;

@@ -231,9 +231,12 @@ def test_a_variants_tables_are_its_own():
     change to a copy's [run] values or boxes leaves the scene alone (a
     shallow copy shared them)."""
     from mps2p.tools import scenefile
-    sf = scenefile.load(ladder.scene_path("still_water_under_air"))
+    sf = scenefile.load(ladder.scene_path("droplet_in_air"))
     l0, box = sf.l0, list(sf.data["fluid_box"][0]["box"])
-    data = ladder._own_copy(sf)
-    data["run"]["l0"] = 2 * l0
-    data["fluid_box"][0]["box"][0] += 0.05
+    parameters = {"dt": 1e-4}
+    variant = ladder._pool_under_air_around(sf, None, parameters=parameters)
+    variant.data["run"]["l0"] = 2 * l0
+    variant.data["tank"][0]["box"][0] += 0.05
+    variant.data["parameters"]["dt"] = 2e-4
     assert sf.l0 == l0 and sf.data["fluid_box"][0]["box"] == box
+    assert sf.data["tank"][0]["box"][0] == 0.0 and parameters == {"dt": 1e-4}

@@ -326,17 +326,13 @@ def _pool_under_air_around(sf, site, **tables):
     air to 0.6 m, 0.3 m wide, the air left out of the box site = (x0, y0,
     x1, y1) (None: no site, the air whole), and any other top-level tables
     replaced by `tables`."""
-    data = dict(_own_copy(sf), **tables)
-    if site is None:
-        data["fluid_box"] = [{"fluid": "water", "box": [0.0, 0.0, 0.3, 0.1]},
-                             {"fluid": "air", "box": [0.0, 0.1, 0.3, 0.6]}]
-        return scenefile.SceneFile(sf.path, sf.text, data)
-    x0, y0, x1, y1 = site
-    data["fluid_box"] = [{"fluid": "water", "box": [0.0, 0.0, 0.3, 0.1]},
-            {"fluid": "air", "box": [0.0, 0.1, 0.3, y0]},
-            {"fluid": "air", "box": [0.0, y0, x0, y1]},
-            {"fluid": "air", "box": [x1, y0, 0.3, y1]},
-            {"fluid": "air", "box": [0.0, y1, 0.3, 0.6]}]
+    data = dict(_own_copy(sf), **copy.deepcopy(tables))
+    air = [[0.0, 0.1, 0.3, 0.6]]
+    if site is not None:
+        x0, y0, x1, y1 = site
+        air = [[0.0, 0.1, 0.3, y0], [0.0, y0, x0, y1], [x1, y0, 0.3, y1], [0.0, y1, 0.3, 0.6]]
+    data["fluid_box"] = ([{"fluid": "water", "box": [0.0, 0.0, 0.3, 0.1]}] +
+                         [{"fluid": "air", "box": box} for box in air])
     return scenefile.SceneFile(sf.path, sf.text, data)
 
 
