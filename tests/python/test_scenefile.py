@@ -122,6 +122,20 @@ def test_a_fluid_box_outside_every_tank_is_warned_of(tmp_path, box, warned):
         assert outside[0].startswith(path + ": fluid_box[0]: ")
 
 
+@pytest.mark.parametrize("wall, warned", [
+    ("[0.3, 0.0, 0.4, 0.05]", True),   # a weir inside the tank: nothing under the box
+    ("[1.0, 0.0, 1.2, 0.05]", False),  # a shelf under the box beside the tank
+])
+def test_a_wall_box_under_a_fluid_box_outside_the_tanks_may_hold_it(tmp_path, wall, warned):
+    text = GOOD.replace("box = [0.0, 0.0, 0.16, 0.3]", "box = [1.0, 0.05, 1.2, 0.2]", 1)
+    path = write(tmp_path, text + "\n[[wall_box]]\nbox = " + wall + "\n")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        scenefile.load(path).build().close()
+    outside = [str(w.message) for w in caught if "outside every tank" in str(w.message)]
+    assert len(outside) == int(warned), outside
+
+
 def test_a_parameter_that_is_not_finite(tmp_path):
     """nan is a float to TOML: the message says a finite number is wanted."""
     text = GOOD.replace("[[tank]]", "[parameters]\ncfl = nan\n[[tank]]", 1)

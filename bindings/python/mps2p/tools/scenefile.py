@@ -279,19 +279,26 @@ class SceneFile:
         """A fluid box wholly outside every tank (beside it, under its floor,
         over a closed top) is allowed, but no wall holds its fluid (under
         gravity it falls out of the domain): said before the run, not 0.3 s
-        into it. (A box reaching into a wall is refused by the library: boxes
-        may touch, not overlap.)"""
-        tanks = self.data.get("tank", [])
-        if not tanks or self.data.get("wall_box") or self.data.get("particles"):
-            return  # walls of the file's own (boxes, particle files) may hold it
+        into it. A wall box that reaches below the fluid box's top within its
+        width may hold it (a shelf, a basin of the file's own). (A box
+        reaching into a wall is refused by the library: boxes may touch, not
+        overlap.)"""
+        tanks, walls = self.data.get("tank", []), self.data.get("wall_box", [])
+        if not tanks or self.data.get("particles"):
+            return  # walls of particle files may hold it
 
         def meets(box, tank):
             x0, y0, x1, y1 = tank["box"]
             top = math.inf if tank.get("open_top", True) else y1
             return box[0] < x1 and box[2] > x0 and box[1] < top and box[3] > y0
 
+        def under(box, wall):
+            x0, y0, x1, _ = wall["box"]
+            return box[0] < x1 and box[2] > x0 and y0 < box[3]
+
         for i, b in enumerate(self.data.get("fluid_box", [])):
-            if not any(meets(b["box"], t) for t in tanks):
+            if not any(meets(b["box"], t) for t in tanks) and \
+                    not any(under(b["box"], w) for w in walls):
                 warnings.warn("%s: fluid_box[%d]: %s lies outside every tank: no wall holds "
                               "its fluid" % (self.path, i, list(b["box"])),
                               UserWarning, stacklevel=4)
