@@ -70,7 +70,7 @@ static double refused_bytes(mps2p_scene *scene, double threads)
     return bytes;
 }
 
-/* With a team, each thread's run of the neighbour list and of the matrix is
+/* With a team, each thread's run of the neighbour list or of the matrix is
  * built apart and copied in: the estimate counts that room (a solver near
  * the limit is refused with a message, not killed while it builds). */
 static void test_estimate_counts_the_team(void)

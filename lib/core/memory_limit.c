@@ -64,20 +64,19 @@ double solver_bytes_estimate(const params *p, size_t n)
     const double skin = p->neighbour_skin, pi = 3.14159265358979;
     const double cutoff = params_max_radius(p) + skin, near = p->re_density + skin;
     const double pairs = pi * (cutoff * cutoff + near * near);
-    const double list = pairs * sizeof(uint32_t) + 2 * sizeof(size_t) + 2 * sizeof(double) +
-                        sizeof(uint32_t);
+    const double list_indices = pairs * sizeof(uint32_t);
+    const double list = list_indices + 2 * sizeof(size_t) + 2 * sizeof(double) + sizeof(uint32_t);
     /* the pressure matrix, every particle an unknown: its pairs within
      * re_laplacian and the diagonal, an int column and a double value each */
-    const double matrix = (pi * p->re_laplacian * p->re_laplacian + 1.0) *
-                              (sizeof(int) + sizeof(double)) + sizeof(int);
+    const double matrix_entries =
+        pi * p->re_laplacian * p->re_laplacian * (sizeof(int) + sizeof(double));
+    const double matrix = matrix_entries + sizeof(int) + sizeof(double) + sizeof(int);
     /* with a team, each thread's run of the list or of the matrix but the
      * first is built in room of its own and then copied in (and freed: the
      * two are never held at once): up to (threads - 1) / threads of the
      * larger held twice */
     const int team = team_size(p->threads);
-    const double staged = (double)(team - 1) / team *
-                          fmax(pairs * sizeof(uint32_t),
-                               pi * p->re_laplacian * p->re_laplacian * (sizeof(int) + sizeof(double)));
+    const double staged = (double)(team - 1) / team * fmax(list_indices, matrix_entries);
     return (double)n * (arrays + list + matrix + staged);
 }
 
