@@ -125,8 +125,9 @@ void lattice_constants(double l0, double re, double *n0, double *lambda);
 /* ---- neighbour list (neighbours.c) ---- */
 
 /* Every pair closer than cutoff = max radius + skin, kept as a compressed
- * row list (both directions, ordered by index); rebuilt when a particle has
- * moved more than skin / 2 since the last build, so each stage can reuse it.
+ * row list (both directions, ordered by index); rebuilt when the two largest
+ * displacements since the last build add up to more than the skin, so each
+ * stage can reuse it.
  * At each build a short list is also taken from it: the pairs closer than
  * short_radius + skin (short_radius = re_density l0), in the same order, for
  * the stages that look no further than short_radius (about 20 neighbours
