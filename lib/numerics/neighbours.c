@@ -90,6 +90,14 @@ static size_t cell_of(const neighbour_list *list, const double *position, size_t
     return cy * list->cells[0] + cx;
 }
 
+/* Particle i's squared displacement since the last build. */
+static double moved2(const neighbour_list *list, const double *position, size_t i)
+{
+    double dx = position[2 * i] - list->built_at[2 * i];
+    double dy = position[2 * i + 1] - list->built_at[2 * i + 1];
+    return dx * dx + dy * dy;
+}
+
 /* A pair listed at the last build can have closed in by at most the sum of
  * its two particles' displacements since, so the list holds every pair within
  * cutoff - skin until the two largest displacements add up to more than the
@@ -106,9 +114,7 @@ static int needs_rebuild(const neighbour_list *list, const double *position)
     int not_finite = 0;
     PARALLEL_FOR(list->threads, schedule(static) reduction(max : largest) reduction(| : not_finite),
     for (size_t i = 0; i < list->count; i++) {
-        double dx = position[2 * i] - list->built_at[2 * i];
-        double dy = position[2 * i + 1] - list->built_at[2 * i + 1];
-        double d2 = dx * dx + dy * dy;
+        double d2 = moved2(list, position, i);
         not_finite |= !isfinite(d2);
         largest = d2 > largest ? d2 : largest;
     });
@@ -120,9 +126,7 @@ static int needs_rebuild(const neighbour_list *list, const double *position)
     size_t at_largest = 0;
     PARALLEL_FOR(list->threads, schedule(static) reduction(max : below) reduction(+ : at_largest),
     for (size_t i = 0; i < list->count; i++) {
-        double dx = position[2 * i] - list->built_at[2 * i];
-        double dy = position[2 * i + 1] - list->built_at[2 * i + 1];
-        double d2 = dx * dx + dy * dy;
+        double d2 = moved2(list, position, i);
         at_largest += d2 == largest;
         below = d2 < largest && d2 > below ? d2 : below;
     });
