@@ -199,12 +199,14 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *                                 (rbar_i / r_ij)^2 e_ji a step (u_max the fastest
  *                                 fluid speed), away from close neighbours (single
  *                                 phase); 0 = off (0)
- *   ppe_step_gain         * 1     share of this step's compression, n* - n^k,
+ *   ppe_step_gain         * 0.4   share of this step's compression, n* - n^k,
  *                                 that the ecs and mixed sources answer in the
- *                                 step (0.4: a turning stream's wall-pressure
+ *                                 step (against 1: a turning stream's wall-pressure
  *                                 scatter a quarter lower, Buchner's probe noise
  *                                 and the dam break's spray two fifths lower,
- *                                 docs/validation.md; not yet the default) (1)
+ *                                 docs/validation.md); one phase and the single
+ *                                 two-phase model: the two-step models' liquid,
+ *                                 not shifted, answers in full (1)
  *   ppe_relaxation          0.2   factor on the PPE source term
  *   compressibility         4.5e-10  1/Pa, on the PPE diagonal; keeps a fluid
  *                                 cluster without free surface solvable

@@ -50,9 +50,11 @@ static const param_entry table[] = {
      "particle shifting: a fluid particle off the free surface moves shifting u_max dt "
      "sum_j (rbar_i / r_ij)^2 e_ji a step (u_max the fastest fluid speed), away from close "
      "neighbours (single phase); 0 = off"},
-    {"ppe_step_gain", FIELD(ppe_step_gain), 1.0, 0.01, 1.0,
+    {"ppe_step_gain", FIELD(ppe_step_gain), 0.4, 0.01, 1.0,
      "share of this step's own compression, n* - n^k, that the ecs and mixed PPE sources "
-     "answer in the step (the rest stays in the density error their other term answers)"},
+     "answer in the step (the rest stays in the density error their other term answers); "
+     "one phase and the single two-phase model: the two-step models' liquid, not shifted, "
+     "answers in full"},
     {"ppe_relaxation", FIELD(ppe_relaxation), 0.2, 1e-6, 1.0,
      "relaxation factor on the PPE source term"},
     {"compressibility", FIELD(compressibility), 4.5e-10, 0.0, 1.0,
@@ -160,10 +162,11 @@ static const scheme_entry schemes[] = {
      * dummies and dry walls as hydrostatic ghosts, collision as a damper of
      * every approaching pair closer than the lattice spacing at a rate that
      * does not grow as dt shrinks and whole inside half a spacing, a gravity
-     * limit on dt; the source answers each step's compression in full (0.4
-     * measured, docs/validation.md, not yet the default) */
+     * limit on dt; the source answers 0.4 of each step's compression, which
+     * takes two fifths off the spray and the impact's pressure noise
+     * (docs/validation.md) */
     {"corrected", GRADIENT_CORRECTED, PPE_SOURCE_ECS, WALL_GHOSTS_HYDROSTATIC,
-     SURFACE_PRESSURE_EXTRAPOLATED, 3.1, 0.995, 0.03, 0.03, 0.04, 1.0, 0.5},
+     SURFACE_PRESSURE_EXTRAPOLATED, 3.1, 0.995, 0.03, 0.03, 0.04, 0.4, 0.5},
     /* Koshizuka and Oka (1996), as docs/method.md restates it: the paper's
      * scheme (its density source has no step term; its collision is whole) */
     {"koshizuka1996", GRADIENT_MINIMUM, PPE_SOURCE_DENSITY, WALL_GHOSTS_NONE,

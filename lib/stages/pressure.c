@@ -60,21 +60,21 @@ static int takes_part(const mps2p_solver *s, const ppe_system *sys, size_t j)
  *   density  gamma (n* - n0): Koshizuka and Oka, the whole deviation relaxed;
  *   mixed    a (n* - n^k) + gamma (n^k - n0): this step's change (the
  *            velocity divergence, measured with the number density itself)
- *            times a = ppe_step_gain, the drift accumulated before it
+ *            times a (the system's step_gain), the drift accumulated before it
  *            relaxed (after Tanaka and Masunaga 2010);
  *   ecs      a (n* - n^k) + |e| (n^k - n0), e = (n^k - n0)/n0: as mixed, with
  *            the drift's factor the error itself, after Khayyer and Gotoh's
  *            error-compensating source (a simplified form, not theirs
  *            exactly): noise-sized errors are hardly amplified by 1/dt^2.
- * The step's change in full (a = 1, both schemes) over-answers it: still
- * water's first step overshoots 2.4 times and rings, and a flow's pressure
- * scatters from step to step; a = 0.4 takes a quarter off a turning stream's
- * wall-pressure scatter, its mean unchanged, and two fifths off Buchner's
- * probe noise (docs/validation.md). */
+ * The step's change in full (a = 1) over-answers it: still water's first
+ * step overshoots 2.4 times and rings, and a flow's pressure scatters from
+ * step to step; a = 0.4 (the default scheme's ppe_step_gain) takes a quarter
+ * off a turning stream's wall-pressure scatter, its mean unchanged, and two
+ * fifths off Buchner's probe noise (docs/validation.md). */
 static double source_term(const mps2p_solver *s, const ppe_system *sys, size_t i, double dt)
 {
     const double n0 = s->n0_density, gamma = s->params.ppe_relaxation;
-    const double gain = s->params.ppe_step_gain;
+    const double gain = sys->step_gain;
     const double scale = sys->density[i] / (dt * dt) / n0;
     const double n_star = sys->n_star[i];
     if (s->params.ppe_source == PPE_SOURCE_DENSITY || sys->density_source)
@@ -101,6 +101,7 @@ static ppe_system single_phase_system(mps2p_solver *s)
                       .density = s->density,
                       .pressure = s->state.pressure,
                       .hydrostatic_ghosts = s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC,
+                      .step_gain = s->params.ppe_step_gain,
                       .surface_diagonal = surface_diagonal_of(s),
                       .unknowns = s->ppe_unknowns};
     return sys;

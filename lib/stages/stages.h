@@ -111,6 +111,7 @@ typedef struct ppe_system {
     double tolerance;           /* CG tolerance; 0 = cg_tolerance */
     int hydrostatic_ghosts;     /* dummies and dry walls as ghosts (option wall_ghosts) */
     int density_source;         /* Koshizuka's source gamma (n* - n0) whatever ppe_source */
+    double step_gain;           /* a, the share of n* - n^k the ecs and mixed sources answer */
     int keep_negative;          /* negative pressures kept whatever clamp_negative_pressure */
     double *surface_diagonal;   /* n, workspace: surface_pressure extrapolated; NULL: centre */
     size_t unknowns, iterations;

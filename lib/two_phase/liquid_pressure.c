@@ -147,6 +147,10 @@ int liquid_pressure_solve(mps2p_solver *s, double dt)
                         .pressure = tp->heavy_pressure,
                         .hydrostatic_ghosts =
                             s->params.wall_ghosts == WALL_GHOSTS_HYDROSTATIC,
+                        /* the step's compression in full: this liquid is not shifted,
+                         * and unshifted a lower gain speeds the spray that opens holes
+                         * in the gas (docs/two-phase.md) */
+                        .step_gain = 1.0,
                         .surface_diagonal = surface_diagonal_of(s)};
     /* With threads, the gas's number density and free surface (which read
      * only what is set above) are prepared beside this solve while the
