@@ -1,9 +1,10 @@
 /* The particle loops in parallel (OpenMP, parameter threads): the same short
  * dam break with 1, 2 and 3 threads, and twice with 2, gives bitwise the same
  * positions, velocities and pressure; so do a CG solve of more than one
- * reduction block and a water column collapsing under air (two phases: its
- * scan, number densities, correction per phase and both CG solves), and a
- * failed solve there reports on the calling thread. Bad thread counts are refused. Without OpenMP every count
+ * reduction block, a water column collapsing under air (two phases: its
+ * scan, number densities, correction per phase and both CG solves) and an
+ * air bubble in water (its flood fill beside the scan), and a failed solve
+ * there reports on the calling thread. Bad thread counts are refused. Without OpenMP every count
  * runs on one thread, and the test holds trivially. */
 #include <string.h>
 #include "scenes.h"
@@ -133,6 +134,35 @@ int main(void)
     CHECK(last_unknowns[1] >= 1024, "gas unknowns %g, under 1024: the runs untested",
           last_unknowns[1]);
     mps2p_scene_destroy(air_column);
+
+    /* an air bubble held in water: its flood fill runs beside the sector
+     * scan on two threads (interface_scan), and it is a bubble (cut off
+     * from the air above) the whole time compared */
+    mps2p_scene *bubble;
+    MUST(mps2p_scene_create(0.01, &bubble));
+    MUST(mps2p_scene_add_fluid(bubble, "water", 1000.0, 1e-6, &water));
+    MUST(mps2p_scene_add_fluid(bubble, "air", 1.2, 1.5e-5, &air));
+    MUST(mps2p_scene_add_fluid_box(bubble, water, 0.0, 0.0, 0.2, 0.05));
+    MUST(mps2p_scene_add_fluid_box(bubble, water, 0.0, 0.05, 0.08, 0.09));
+    MUST(mps2p_scene_add_fluid_box(bubble, air, 0.08, 0.05, 0.12, 0.09));
+    MUST(mps2p_scene_add_fluid_box(bubble, water, 0.12, 0.05, 0.2, 0.09));
+    MUST(mps2p_scene_add_fluid_box(bubble, water, 0.0, 0.09, 0.2, 0.15));
+    MUST(mps2p_scene_add_fluid_box(bubble, air, 0.0, 0.15, 0.2, 0.25));
+    MUST(mps2p_scene_add_tank(bubble, 0.0, 0.0, 0.2, 0.3, 1));
+    MUST(mps2p_scene_set_option(bubble, "pressure_solver", "cg"));
+    MUST(mps2p_scene_set_param(bubble, "dt", 1e-3));
+    compare_counts(bubble, 40, "an air bubble in water (two phases, its flood fill)");
+    mps2p_solver *held;
+    double in_bubbles;
+    MUST(mps2p_scene_set_param(bubble, "threads", 2));
+    MUST(mps2p_solver_create(bubble, &held));
+    for (int step = 0; step < 40; step++)
+        MUST(mps2p_solver_step(held));
+    MUST(mps2p_solver_get_stat(held, "gas_in_bubbles", &in_bubbles));
+    CHECK(in_bubbles >= 8.0, "gas in bubbles after 40 steps: %g of the 16, the path untested",
+          in_bubbles);
+    mps2p_solver_destroy(held);
+    mps2p_scene_destroy(bubble);
 
     /* 0 = OpenMP's default; whole numbers in [0, 1024] only */
     CHECK(mps2p_scene_set_param(scene, "threads", 0) == MPS2P_OK, "threads 0 refused");

@@ -50,6 +50,10 @@ typedef struct two_phase {
      * liquid's solve (gas_pressure_prepare) for this step's gas solve */
     int gas_prepared, gas_voids;
     const double *gas_n_seen;
+    /* the enclosed bubbles, marked beside the sector scan on two threads
+     * (interface_scan) for this step's join */
+    int bubbles_marked;
+    size_t bubbles_ahead;
 } two_phase;
 
 
