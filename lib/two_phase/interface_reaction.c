@@ -127,8 +127,8 @@ static void mark_bubbles_ahead(mps2p_solver *s)
 int interface_scan(mps2p_solver *s, double dt)
 {
     (void)dt;
-    /* With threads, the join's flood fill (serial: a fifth of the paper's
-     * case's two-thread step stood waiting for it) runs beside the scan:
+    /* With threads, the join's flood fill (serial: the second thread stood
+     * waiting through 0.2 s of the paper's case's first 0.5 s) runs beside the scan:
      * it reads the last step's joins and this step's n*, which the scan
      * does not write, and writes only the bubble marks, which the scan does
      * not read (docs/performance.md). */
