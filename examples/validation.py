@@ -10,6 +10,7 @@ Koshizuka and Oka's (scheme koshizuka1996).
     python3 examples/validation.py buchner_air [--quick] [--out DIR]
     python3 examples/validation.py gate [--quick] [--out DIR]
     python3 examples/validation.py transplant --pysph-python PY [--quick] [--out DIR]
+    python3 examples/validation.py sensors [--quick] [--out DIR]
     python3 examples/validation.py tables [--out DIR]   # the JSONs as Markdown
 
 Each case writes CSV series, a JSON summary and PNG pictures into DIR
@@ -22,7 +23,9 @@ scheme, or it with --settings changed) and adds their statistics' mean,
 standard deviation and range to scatter.json. buchner_air runs Buchner's case
 at H/l0 = 40 with air around the column (the paper's improved two-phase model)
 and without, over the scatter's cfl values; gate releases the dam break's column
-by a gate lifted at several speeds. Reference data: data/ (cited in
+by a gate lifted at several speeds; sensors reads Buchner's P1 as other
+particle codes read it (lower on the wall, or averaged down it) beside our
+reading at the sensor. Reference data: data/ (cited in
 data/README.md).
 """
 import argparse
@@ -415,12 +418,15 @@ AIR_SETTINGS = {"pressure_solver": "cg", "cg_preconditioner": "two_level",
                 "gas_cg_tolerance": 1e-4}
 
 
-def impact(scheme, per_height, H=0.6, end_star=7.0, every_star=0.01, settings=None, air=False):
+def impact(scheme, per_height, H=0.6, end_star=7.0, every_star=0.01, settings=None, air=False,
+           readings=()):
     """Buchner's dam break: column H high, 2H wide, tank 5.366 H long (to a
     whole number of spacings: 5.35 H at H/l0 = 40, 5.3625 H at 80). The
     sensors sit on the right wall at y = 0.16 m and 0.584 m; the probes read
     them half a spacing inside the water, as the probes average. With air,
-    the tank holds air up to 2H around the column (AIR_SETTINGS)."""
+    the tank holds air up to 2H around the column (AIR_SETTINGS). readings:
+    lists of heights, each read as the mean of the probes there, added to
+    each row after P1 and P2 (the sensors read as others read them)."""
     l0 = H / per_height
     # 5.366 H, to a whole number of spacings (tanks are built on the lattice)
     length = math.floor(5.366 * per_height) * l0
@@ -435,7 +441,7 @@ def impact(scheme, per_height, H=0.6, end_star=7.0, every_star=0.01, settings=No
         scene.add_tank(0.0, 0.0, length + 1e-9, 3 * H + 1e-9, open_top=True)
         solver = mps2p.Solver(scene)
     scale_t, scale_p = math.sqrt(H / G), RHO * G * H
-    points = [[length - 0.5 * l0, 0.16], [length - 0.5 * l0, 0.584]]
+    points = [[length - 0.5 * l0, y] for y in [0.16, 0.584] + [y for r in readings for y in r]]
     rows, stopped = [], None
     for k in range(1, int(round(end_star / every_star)) + 1):
         try:
@@ -445,7 +451,11 @@ def impact(scheme, per_height, H=0.6, end_star=7.0, every_star=0.01, settings=No
             stopped = str(e)
             break
         p = solver.probe(points)[0] / scale_p
-        rows.append((k * every_star, p[0], p[1]))
+        at, extra = 2, []
+        for heights in readings:
+            extra.append(float(np.mean(p[at:at + len(heights)])))
+            at += len(heights)
+        rows.append((k * every_star, p[0], p[1], *extra))
     summary = impact_summary(scheme, per_height, np.array(rows))
     summary.update({"particles": solver.particle_count, "steps": solver.step_count,
                     "end_t": rows[-1][0] if rows else 0.0, "stopped": stopped})
@@ -728,6 +738,55 @@ def run_transplant(out, quick, pysph_python=None):
                         "at_0.1m_mean": samples[:, :, 1].mean(0).tolist()})
         print("  " + json.dumps(summary[-1]))
     return summary
+
+
+# Buchner's P1 as the particle codes compared with read it: ours at the
+# sensor (0.16 m); PySPH's and SPHinXsys's examples at 0.2 H; TrixiParticles'
+# setups after Adami, Hu and Adams (2012), who follow Greco et al.: the
+# numerical sensor's top at the experiment's sensor centre, the mean of 10
+# points down 0.009 m (an earlier version) or 0.09 m (its Marrone et al. 2011
+# setup). Each reading: (label, heights averaged).
+SENSOR_READINGS = (
+    ("at the sensor, 0.16 m (ours)", [0.16]),
+    ("at 0.2 H = 0.12 m (PySPH, SPHinXsys)", [0.12]),
+    ("mean of 0.151-0.16 m (TrixiParticles, 0.009 m sensor)", list(np.linspace(0.151, 0.16, 10))),
+    ("mean of 0.07-0.16 m (TrixiParticles, 0.09 m sensor)", list(np.linspace(0.07, 0.16, 10))),
+)
+
+
+def run_sensors(out, quick):
+    """Buchner's P1 read as SENSOR_READINGS, the default scheme at H/l0 = 40
+    over the scatter's first four cfl values and at 80 over its first two
+    (--quick: 40 over two): each reading's impact time, plateau and noise,
+    per run and as mean and standard deviation."""
+    runs = [(40, cfl) for cfl in SCATTER_CFL[:2 if quick else 4]]
+    runs += [] if quick else [(80, cfl) for cfl in SCATTER_CFL[:2]]
+    per_run = []
+    for per_height, cfl in runs:
+        print("impact pressure read as others read it, H/l0 = %d, cfl %g" % (per_height, cfl))
+        rows, _ = impact("corrected", per_height, settings={"cfl": cfl},
+                         readings=[heights for _, heights in SENSOR_READINGS])
+        arr = np.array(rows)
+        write_csv(os.path.join(out, "sensors_%d_cfl%g.csv" % (per_height, cfl)),
+                  ["t_star", "p1_star", "p2_star"] + ["reading_%d" % k for k in
+                                                      range(len(SENSOR_READINGS))], rows)
+        for k, (label, _) in enumerate(SENSOR_READINGS):
+            s = impact_summary("corrected", per_height, arr[:, [0, 3 + k]])
+            s.update({"reading": label, "cfl": cfl})
+            per_run.append(s)
+            print("  %s: first > 0.1 at %s, plateau %.3f, noise %.3f"
+                  % (label, s["impact_t"], s["plateau_3_5"], s["noise_2_7"]))
+    summary = []
+    for per_height in sorted({h for h, _ in runs}):
+        for label, _ in SENSOR_READINGS:
+            mine = [r for r in per_run if r["H_over_l0"] == per_height and r["reading"] == label]
+            entry = {"H_over_l0": per_height, "reading": label, "runs": len(mine)}
+            for key in ("impact_t", "plateau_3_5", "noise_2_7"):
+                values = [r[key] for r in mine if r[key] is not None]
+                entry[key] = [float(np.mean(values)), float(np.std(values)),
+                              float(min(values)), float(max(values))] if values else None
+            summary.append(entry)
+    return {"runs": per_run, "summary": summary}
 
 
 def run_buchner_air(out, quick):
@@ -1213,12 +1272,14 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("case", choices=("still", "dam", "shift", "buchner", "turning", "stream", "all",
                                          "scatter", "buchner_air", "gate", "transplant",
-                                         "tables"),
+                                         "sensors", "tables"),
                         help="a case, all six, or scatter (the violent cases' statistics "
                              "over perturbed runs; not in all), buchner_air (Buchner's case "
                              "with air and without; not in all), gate (the dam break released by a lifted "
                              "gate; not in all), transplant (PySPH's Buchner flow at t* = 2.4 "
-                             "continued by this scheme; needs --pysph-python; not in all), or "
+                             "continued by this scheme; needs --pysph-python; not in all), "
+                             "sensors (Buchner's P1 read as other particle codes read it; not "
+                             "in all), or "
                              "tables: the JSON "
                              "summaries in --out as Markdown (the shift and buchner_air "
                              "cases' tables are written by hand)")
@@ -1247,7 +1308,7 @@ def main(argv=None):
                "stream": lambda out, quick: run_stream(out, quick, args.pysph_python),
                "buchner_air": run_buchner_air,
                "transplant": lambda out, quick: run_transplant(out, quick, args.pysph_python),
-               "gate": run_gate}
+               "gate": run_gate, "sensors": run_sensors}
     if args.case == "scatter":
         summary = run_scatter(args.out, args.quick, json.loads(args.settings))
         path = os.path.join(args.out, "scatter.json")
