@@ -10,7 +10,7 @@ Koshizuka and Oka's (scheme koshizuka1996).
     python3 examples/validation.py buchner_air [--quick] [--out DIR]
     python3 examples/validation.py gate [--quick] [--out DIR]
     python3 examples/validation.py transplant --pysph-python PY [--quick] [--out DIR]
-    python3 examples/validation.py sensors [--quick] [--out DIR]
+    python3 examples/validation.py sensors [--quick] [--fine] [--out DIR]
     python3 examples/validation.py tables [--out DIR]   # the JSONs as Markdown
 
 Each case writes CSV series, a JSON summary and PNG pictures into DIR
@@ -754,13 +754,15 @@ SENSOR_READINGS = (
 )
 
 
-def run_sensors(out, quick):
+def run_sensors(out, quick, fine=False):
     """Buchner's P1 read as SENSOR_READINGS, the default scheme at H/l0 = 40
     over the scatter's first four cfl values and at 80 over its first two
-    (--quick: 40 over two): each reading's impact time, plateau and noise,
-    per run and as mean and standard deviation."""
+    (--quick: 40 over two; --fine: and one run at 160, about 40 minutes more):
+    each reading's impact time, plateau and noise, per run and as mean and
+    standard deviation."""
     runs = [(40, cfl) for cfl in SCATTER_CFL[:2 if quick else 4]]
     runs += [] if quick else [(80, cfl) for cfl in SCATTER_CFL[:2]]
+    runs += [(160, SCATTER_CFL[0])] if fine else []
     per_run = []
     for per_height, cfl in runs:
         print("impact pressure read as others read it, H/l0 = %d, cfl %g" % (per_height, cfl))
@@ -1285,7 +1287,7 @@ def main(argv=None):
                              "cases' tables are written by hand)")
     parser.add_argument("--quick", action="store_true", help="shorter runs (see the module help)")
     parser.add_argument("--fine", action="store_true",
-                        help="buchner: also H/l0 = 160 (about 45 minutes more)")
+                        help="buchner, sensors: also H/l0 = 160 (about 45 minutes more)")
     parser.add_argument("--pysph-python", metavar="PY",
                         help="buchner: also PySPH's own Buchner example at H/dx = 40 (edac), run "
                              "with this Python, which has PySPH (about 11 minutes more); stream: "
@@ -1308,7 +1310,8 @@ def main(argv=None):
                "stream": lambda out, quick: run_stream(out, quick, args.pysph_python),
                "buchner_air": run_buchner_air,
                "transplant": lambda out, quick: run_transplant(out, quick, args.pysph_python),
-               "gate": run_gate, "sensors": run_sensors}
+               "gate": run_gate,
+               "sensors": lambda out, quick: run_sensors(out, quick, args.fine)}
     if args.case == "scatter":
         summary = run_scatter(args.out, args.quick, json.loads(args.settings))
         path = os.path.join(args.out, "scatter.json")
