@@ -48,6 +48,30 @@ static inline mps2p_scene *water_air_column_scene(double l0, const char *model)
     return scene;
 }
 
+/* Two phases: a 4 x 4 air pocket (0.08-0.12 m across, 0.05-0.09 m up) in
+ * water up to water_top in a 0.2 m x 0.3 m open tank, l0 = 0.01 m, and air
+ * from water_top up to air_top above it (none when air_top <= water_top:
+ * the pocket is then all the gas). Water is fluid 0, air AIR_POCKET_AIR. */
+#define AIR_POCKET_AIR 1
+static inline mps2p_scene *air_pocket_scene(double water_top, double air_top)
+{
+    mps2p_scene *scene;
+    int water, air;
+    MUST(mps2p_scene_create(0.01, &scene));
+    MUST(mps2p_scene_add_fluid(scene, "water", 1000.0, 1e-6, &water));
+    MUST(mps2p_scene_add_fluid(scene, "air", 1.2, 1.5e-5, &air));
+    CHECK(air == AIR_POCKET_AIR, "air is fluid %d", air);
+    MUST(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.0, 0.2, 0.05));
+    MUST(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.05, 0.08, 0.09));
+    MUST(mps2p_scene_add_fluid_box(scene, water, 0.12, 0.05, 0.2, 0.09));
+    MUST(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.09, 0.2, water_top));
+    MUST(mps2p_scene_add_fluid_box(scene, air, 0.08, 0.05, 0.12, 0.09));
+    if (air_top > water_top)
+        MUST(mps2p_scene_add_fluid_box(scene, air, 0.0, water_top, 0.2, air_top));
+    MUST(mps2p_scene_add_tank(scene, 0.0, 0.0, 0.2, 0.3, 1));
+    return scene;
+}
+
 /* Spray leaving the domain: the dam break's column (0.1 m x 0.2 m, l0 =
  * 0.01 m) in a 0.4 m x 0.3 m open tank, and three droplets above the tank
  * floor thrown up at 2 m/s through the top of a domain that ends at 0.35 m:

@@ -212,17 +212,8 @@ static void test_quiescent_without_viscosity(void)
  * along +y at the drift's 0.2 m/s, "up" taken from the parameter). */
 static void test_no_rise_without_gravity(void)
 {
-    mps2p_scene *scene;
-    int water, air;
-    MUST(mps2p_scene_create(0.01, &scene));
-    MUST(mps2p_scene_add_fluid(scene, "water", 1000.0, 1e-6, &water));
-    MUST(mps2p_scene_add_fluid(scene, "air", 1.2, 1.5e-5, &air));
-    MUST(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.0, 0.2, 0.05));
-    MUST(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.05, 0.08, 0.09));
-    MUST(mps2p_scene_add_fluid_box(scene, water, 0.12, 0.05, 0.2, 0.09));
-    MUST(mps2p_scene_add_fluid_box(scene, water, 0.0, 0.09, 0.2, 0.2));
-    MUST(mps2p_scene_add_fluid_box(scene, air, 0.08, 0.05, 0.12, 0.09));
-    MUST(mps2p_scene_add_tank(scene, 0.0, 0.0, 0.2, 0.3, 1));
+    mps2p_scene *scene = air_pocket_scene(0.2, 0.2);
+    const int air = AIR_POCKET_AIR;
     MUST(mps2p_scene_set_option(scene, "effect.gravity", "off"));
     mps2p_solver *solver = make(scene);
     MUST(mps2p_solver_advance_to(solver, 0.05, NULL, NULL));

@@ -138,17 +138,7 @@ int main(void)
     /* an air bubble held in water: its flood fill runs beside the sector
      * scan on two threads (interface_scan), and it is a bubble (cut off
      * from the air above) the whole time compared */
-    mps2p_scene *bubble;
-    MUST(mps2p_scene_create(0.01, &bubble));
-    MUST(mps2p_scene_add_fluid(bubble, "water", 1000.0, 1e-6, &water));
-    MUST(mps2p_scene_add_fluid(bubble, "air", 1.2, 1.5e-5, &air));
-    MUST(mps2p_scene_add_fluid_box(bubble, water, 0.0, 0.0, 0.2, 0.05));
-    MUST(mps2p_scene_add_fluid_box(bubble, water, 0.0, 0.05, 0.08, 0.09));
-    MUST(mps2p_scene_add_fluid_box(bubble, air, 0.08, 0.05, 0.12, 0.09));
-    MUST(mps2p_scene_add_fluid_box(bubble, water, 0.12, 0.05, 0.2, 0.09));
-    MUST(mps2p_scene_add_fluid_box(bubble, water, 0.0, 0.09, 0.2, 0.15));
-    MUST(mps2p_scene_add_fluid_box(bubble, air, 0.0, 0.15, 0.2, 0.25));
-    MUST(mps2p_scene_add_tank(bubble, 0.0, 0.0, 0.2, 0.3, 1));
+    mps2p_scene *bubble = air_pocket_scene(0.15, 0.25);
     MUST(mps2p_scene_set_option(bubble, "pressure_solver", "cg"));
     MUST(mps2p_scene_set_param(bubble, "dt", 1e-3));
     compare_counts(bubble, 40, "an air bubble in water (two phases, its flood fill)");
