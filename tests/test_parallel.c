@@ -136,8 +136,8 @@ int main(void)
     mps2p_scene_destroy(air_column);
 
     /* an air bubble held in water: its flood fill runs beside the sector
-     * scan on two threads (interface_scan), and it is a bubble (cut off
-     * from the air above) the whole time compared */
+     * scan on two threads (interface_scan); at the end of the steps
+     * compared it is still a bubble (cut off from the air above) */
     mps2p_scene *bubble = air_pocket_scene(0.15, 0.25);
     MUST(mps2p_scene_set_option(bubble, "pressure_solver", "cg"));
     MUST(mps2p_scene_set_param(bubble, "dt", 1e-3));
