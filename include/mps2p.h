@@ -177,8 +177,11 @@ MPS2P_API int mps2p_scene_particle_count(const mps2p_scene *scene, size_t *count
  *                                 0 = no such limit (0)
  *   dt_max                  0     largest adaptive dt (s); 0 = cfl l0 / U, U the
  *                                 larger of sqrt(2 |g| H) (H the height of the
- *                                 initial fluid) and its fastest initial speed
- *                                 (1 m/s when both are 0)
+ *                                 initial fluid, from its lowest particle to
+ *                                 the highest of a fluid not lighter than
+ *                                 light_fraction of the heaviest: a gas over
+ *                                 a liquid does not count) and its fastest
+ *                                 initial speed (1 m/s when both are 0)
  *   collision_distance    * 0.995 too-close distance, in l0; 0 = no collision
  *                                 model (0.5)
  *   collision_time        * 0.03  the collision model gives dt / tau of its
