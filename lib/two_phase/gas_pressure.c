@@ -40,6 +40,12 @@ static const double *gas_number_density(mps2p_solver *s)
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *position = s->state.position;
     double *out = tp->gas_n;
+    /* each particle's factor once, not once a pair (it divides) */
+    double *volume = tp->gas_n_weight;
+    PARALLEL_FOR(s->params.threads, schedule(static),
+    for (size_t i = 0; i < s->count; i++)
+        volume[i] = liquid_volume(s, i);
+    );
     /* each pair's weight once, added to both rows (first_above, pair_block_first) */
     PAIR_BLOCKS(s->params.threads, nl.start, s->count, first, end,
         for (size_t i = first; i < end; i++) {
@@ -49,21 +55,21 @@ static const double *gas_number_density(mps2p_solver *s)
                 double dx = position[2 * j] - position[2 * i];
                 double dy = position[2 * j + 1] - position[2 * i + 1];
                 double w = kernel_weight_squared(dx * dx + dy * dy, re);
-                double volume_j = liquid_volume(s, j);
+                double volume_j = volume[j];
                 n += volume_j > 0.0 ? w * volume_j : w;
             }
             out[i] = n;
         }
         for (size_t i = first; i < end; i++) {
             double n = out[i];
-            const double volume_i = liquid_volume(s, i);
+            const double volume_i = volume[i];
             const size_t inside = row_end_below(nl, i, end);
             for (size_t k = first_above(nl, i); k < nl.start[i + 1]; k++) {
                 size_t j = nl.index[k];
                 double dx = position[2 * j] - position[2 * i];
                 double dy = position[2 * j + 1] - position[2 * i + 1];
                 double w = kernel_weight_squared(dx * dx + dy * dy, re);
-                double volume_j = liquid_volume(s, j);
+                double volume_j = volume[j];
                 n += volume_j > 0.0 ? w * volume_j : w;
                 if (k < inside)
                     out[j] += volume_i > 0.0 ? w * volume_i : w;

@@ -72,6 +72,7 @@ static const field two_phase_rows[] = {
     ARRAY(heavy_n, FIELD_DOUBLE, 0),
     ARRAY(heavy_n_start, FIELD_DOUBLE, 0),
     ARRAY(gas_n, FIELD_DOUBLE, 0),
+    ARRAY(gas_n_weight, FIELD_DOUBLE, 0),
     ARRAY(heavy_rho, FIELD_DOUBLE, 0),
     /* from the scene (phases_init) */
     ARRAY(gas_rho, FIELD_DOUBLE, 0),

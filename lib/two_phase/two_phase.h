@@ -35,6 +35,7 @@ typedef struct two_phase {
     double *heavy_n, *heavy_n_start; /* number density the liquid sees */
     double *heavy_pressure, *gas_pressure;
     double *gas_n;              /* number density the gas solve sees */
+    double *gas_n_weight;       /* each particle's weight in it (liquid_volume, or 0) */
     double *heavy_n_initial;    /* the liquid's number density at the first step */
     int have_initial;
     double *heavy_rho, *gas_rho;     /* densities of the two PPEs' sources */
