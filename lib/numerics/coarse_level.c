@@ -364,18 +364,31 @@ out_of_memory:
     return MPS2P_ERR_NOMEM;
 }
 
-const double *coarse_level_solve(coarse_level *c, const double *r, const int **aggregate_of)
+void coarse_level_restrict(coarse_level *c, const double *r, size_t first_row, size_t end_row)
+{
+    if (!c->factor)
+        return;
+    const size_t end = end_row < (size_t)c->rows ? end_row : (size_t)c->rows;
+    for (size_t i = first_row; i < end; i++) {
+        const int g = c->aggregate_of[i];
+        const int *member = c->member + c->member_start[g];
+        if ((size_t)member[0] != i) /* not the aggregate's first unknown */
+            continue;
+        double sum = 0.0;
+        for (int m = 0; m < c->member_start[g + 1] - c->member_start[g]; m++)
+            sum += r[member[m]];
+        c->restricted[g] = sum;
+    }
+}
+
+const double *coarse_level_solve_restricted(coarse_level *c, const int **aggregate_of)
 {
     if (!c->factor)
         return NULL; /* no setup, or a failed one */
-    double *restricted = c->restricted;
-    memset(restricted, 0, (size_t)c->count * sizeof *restricted);
-    for (int i = 0; i < c->rows; i++)
-        restricted[c->aggregate_of[i]] += r[i];
     cholmod_dense rhs = {0};
     rhs.nrow = rhs.d = rhs.nzmax = (size_t)c->count;
     rhs.ncol = 1;
-    rhs.x = restricted;
+    rhs.x = c->restricted;
     rhs.xtype = CHOLMOD_REAL;
     rhs.dtype = CHOLMOD_DOUBLE;
     if (!cholmod_solve2(CHOLMOD_A, c->factor, &rhs, NULL, &c->solution, NULL, &c->work_y,
@@ -383,4 +396,10 @@ const double *coarse_level_solve(coarse_level *c, const double *r, const int **a
         return NULL;
     *aggregate_of = c->aggregate_of;
     return c->solution->x;
+}
+
+const double *coarse_level_solve(coarse_level *c, const double *r, const int **aggregate_of)
+{
+    coarse_level_restrict(c, r, 0, (size_t)c->rows);
+    return coarse_level_solve_restricted(c, aggregate_of);
 }

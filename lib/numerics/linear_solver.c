@@ -563,6 +563,12 @@ static void cg_iterations(cg_run *run, int thread, int team)
     double *partial = run->partial;
     const int incomplete_cholesky = run->incomplete_cholesky;
     const double bound = run->tolerance * run->b_norm;
+    /* With the coarse level and a team, x moves while the first thread
+     * solves the coarse system: by the other threads, each its share of the
+     * rows, also in the last iteration (alone then) */
+    const int defer_x = run->two_level && team > 1;
+    const size_t x_row0 = thread == 0 ? 0 : n * (size_t)(thread - 1) / (size_t)(team - 1);
+    const size_t x_row1 = thread == 0 ? 0 : n * (size_t)thread / (size_t)(team - 1);
     double rr = run->rr, rz = run->rz;
     size_t k = 0;
     int status = MPS2P_ERR_SOLVE;
@@ -583,14 +589,15 @@ static void cg_iterations(cg_run *run, int thread, int team)
         if (!(pq > 0.0))
             break;
         double alpha = rz / pq;
-        /* x += alpha p, r -= alpha q, z = M^-1 r, and the block sums of r.z
-         * and r.r, in one pass over each block */
+        /* x += alpha p (unless deferred), r -= alpha q, z = M^-1 r, and the
+         * block sums of r.z and r.r, in one pass over each block */
         for (size_t b = block0; b < block1; b++) {
             size_t first = b * REDUCTION_BLOCK;
             size_t end = n - first < REDUCTION_BLOCK ? n : first + REDUCTION_BLOCK;
             double block_rz = 0.0, block_rr = 0.0;
             for (size_t i = first; i < end; i++) {
-                x[i] += alpha * p[i];
+                if (!defer_x)
+                    x[i] += alpha * p[i];
                 r[i] += -alpha * q[i];
                 if (!incomplete_cholesky) {
                     z[i] = r[i] * inverse_diagonal[i];
@@ -618,9 +625,24 @@ static void cg_iterations(cg_run *run, int thread, int team)
             TEAM_BARRIER(team);
             rz_next = run->ic0_rz;
         } else if (run->two_level && sqrt(rr) > bound) {
-            /* (not when converged: the loop stops before using z) */
+            /* (not when converged: the loop stops before using z). Each
+             * thread restricts the aggregates that start in its blocks
+             * (mostly its own rows of r), then the first solves the coarse
+             * system while the others move x (deferred: nothing reads it
+             * before the end) */
+            coarse_level *coarse_level = run->ls->coarse;
+            if (team > 1) {
+                coarse_level_restrict(coarse_level, r, block0 * REDUCTION_BLOCK,
+                                      block1 * REDUCTION_BLOCK);
+                TEAM_BARRIER(team);
+            }
             if (thread == 0)
-                run->coarse = coarse_level_solve(run->ls->coarse, r, &run->aggregate_of);
+                run->coarse = team > 1
+                                  ? coarse_level_solve_restricted(coarse_level, &run->aggregate_of)
+                                  : coarse_level_solve(coarse_level, r, &run->aggregate_of);
+            else
+                for (size_t i = x_row0; i < x_row1; i++)
+                    x[i] += alpha * p[i];
             TEAM_BARRIER(team);
             const double *coarse = run->coarse;
             if (!coarse) {
@@ -640,6 +662,13 @@ static void cg_iterations(cg_run *run, int thread, int team)
             }
             TEAM_BARRIER(team);
             rz_next = combine_slot(partial, blocks, SLOT_COARSE_RZ);
+        } else if (defer_x) { /* converged: x's last move, and the end (every
+                                 thread sees the same rr) before p changes */
+            for (size_t i = x_row0; i < x_row1; i++)
+                x[i] += alpha * p[i];
+            k++;
+            status = MPS2P_OK;
+            break;
         }
         double beta = rz_next / rz;
         rz = rz_next;

@@ -319,6 +319,12 @@ int coarse_level_setup(coarse_level *c, const sparse_matrix *a, double threads, 
  * NULL without a factor (no setup, or a failed one) or when CHOLMOD's solve
  * fails (out of memory). */
 const double *coarse_level_solve(coarse_level *c, const double *r, const int **aggregate_of);
+/* coarse_level_solve in two parts, for a team: P^T r for the aggregates whose
+ * first unknown is in rows [first_row, end_row) (each summed over its
+ * unknowns in order: the same bits as one pass), then the solve, once all
+ * aggregates are restricted. */
+void coarse_level_restrict(coarse_level *c, const double *r, size_t first_row, size_t end_row);
+const double *coarse_level_solve_restricted(coarse_level *c, const int **aggregate_of);
 
 /* kind: enum pressure_solver_kind; preconditioner: enum cg_preconditioner_kind
  * (CG only); threads: parameter threads, for CG's loops (team_size). Fails
