@@ -10,9 +10,10 @@
 #include <string.h>
 #include <time.h>
 
+/* With two phases, phases_start computes n^k with the liquid's own. */
 static int uses_start_density(const mps2p_solver *s)
 {
-    return s->params.ppe_source != PPE_SOURCE_DENSITY;
+    return s->params.ppe_source != PPE_SOURCE_DENSITY && !s->effect_active[EFFECT_TWO_PHASE];
 }
 
 /* The single-phase pressure stages give way to the two phases' own. */
@@ -40,7 +41,7 @@ typedef struct stage {
 /* One MPS step (docs/method.md section 1, fig. 1 of the paper), in order;
  * mps2p_solver_get_stage's index is the row. Host-moved walls move first,
  * so that viscosity sees their velocity. With two phases (docs/method.md
- * 2-3) the liquid's own n^k is taken at the start, and the free surface,
+ * 2-3) the liquid's own n^k is taken at the start (with all particles'), and the free surface,
  * PPE and correction give way to the sector scan, the liquid then the gas
  * PPE and a correction per phase, then the gas's damping layer at its top
  * (before the checks: it is the boundary, not a repair); the gas's own check runs before the
@@ -49,7 +50,7 @@ static const stage stages[] = {
     {"neighbours", -1, NULL, neighbours_refresh, 0, 0},
     {"number_density_start", -1, uses_start_density, number_density_start, 0,
      NEEDS(number_density_start)},
-    {"phases_start", EFFECT_TWO_PHASE, NULL, phases_step_start, 0, 0},
+    {"phases_start", EFFECT_TWO_PHASE, NULL, phases_step_start, 0, NEEDS(number_density_start)},
     {"body_motion", -1, body_motion_wanted, body_motion_apply, 0, 0},
     {"viscosity", EFFECT_VISCOSITY, NULL, viscosity_apply, 0, 0},
     {"turbulence", EFFECT_TURBULENCE, NULL, turbulence_apply, 0, NEEDS(eddy_viscosity)},

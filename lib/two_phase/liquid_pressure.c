@@ -10,8 +10,10 @@
 #include <string.h>
 
 /* Number density as the liquid sees it: light particles count only when
- * they have joined the liquid solve. */
-static void heavy_number_density(const mps2p_solver *s, double *out)
+ * they have joined the liquid solve. With all (the step's start), also the
+ * number density of all particles (number_density_compute's sums, in the
+ * same order: the same bits) from the same pass over the pairs. */
+static void heavy_number_density(const mps2p_solver *s, double *out, double *all)
 {
     const two_phase *tp = s->phases;
     const double re = s->params.re_density * s->l0;
@@ -20,36 +22,48 @@ static void heavy_number_density(const mps2p_solver *s, double *out)
     /* each pair's weight once, added to both rows (first_above, pair_block_first) */
     PAIR_BLOCKS(s->params.threads, nl.start, s->count, first, end,
         for (size_t i = first; i < end; i++) {
-            double n = 0.0;
+            double n = 0.0, n_all = 0.0;
             for (size_t k = nl.start[i]; k < nl.start[i + 1] && nl.index[k] < first; k++) {
                 size_t j = nl.index[k];
-                if (!tp->heavy_mask[j])
+                if (!tp->heavy_mask[j] && !all)
                     continue;
                 double dx = position[2 * j] - position[2 * i];
                 double dy = position[2 * j + 1] - position[2 * i + 1];
                 double w = kernel_weight_squared(dx * dx + dy * dy, re);
-                n += tp->light[j] ? tp->join_weight[j] * w : w;
+                n_all += w;
+                if (tp->heavy_mask[j])
+                    n += tp->light[j] ? tp->join_weight[j] * w : w;
             }
             out[i] = n;
+            if (all)
+                all[i] = n_all;
         }
         for (size_t i = first; i < end; i++) {
-            double n = out[i];
+            double n = out[i], n_all = all ? all[i] : 0.0;
             /* the rows above in this block take i's term if i is seen */
+            const size_t inside_all = all ? row_end_below(nl, i, end) : 0;
             const size_t inside = tp->heavy_mask[i] ? row_end_below(nl, i, end) : 0;
             for (size_t k = first_above(nl, i); k < nl.start[i + 1]; k++) {
                 size_t j = nl.index[k];
                 const int to_j = k < inside;
-                if (!tp->heavy_mask[j] && !to_j)
+                if (!tp->heavy_mask[j] && !to_j && !all)
                     continue;
                 double dx = position[2 * j] - position[2 * i];
                 double dy = position[2 * j + 1] - position[2 * i + 1];
                 double w = kernel_weight_squared(dx * dx + dy * dy, re);
+                if (all) {
+                    n_all += w;
+                    if (k < inside_all)
+                        all[j] += w;
+                }
                 if (tp->heavy_mask[j])
                     n += tp->light[j] ? tp->join_weight[j] * w : w;
                 if (to_j)
                     out[j] += tp->light[i] ? tp->join_weight[i] * w : w;
             }
             out[i] = n;
+            if (all)
+                all[i] = n_all;
         }
     );
 }
@@ -58,7 +72,11 @@ int phases_step_start(mps2p_solver *s, double dt)
 {
     (void)dt;
     two_phase *tp = s->phases;
-    heavy_number_density(s, tp->heavy_n_start);
+    /* n^k of all particles too (the gas's source), in the same pass: the
+     * plan leaves stage number_density_start out with two phases */
+    heavy_number_density(s, tp->heavy_n_start,
+                         s->params.ppe_source != PPE_SOURCE_DENSITY ? s->number_density_start
+                                                                    : NULL);
     if (!tp->have_initial) {
         memcpy(tp->heavy_n_initial, tp->heavy_n_start, s->count * sizeof(double));
         tp->have_initial = 1;
@@ -129,7 +147,7 @@ int liquid_pressure_solve(mps2p_solver *s, double dt)
          * incompressibility: its source takes the liquid's density. */
         tp->heavy_rho[i] = tp->light[i] ? tp->heavy_density : s->density[i];
     }
-    heavy_number_density(s, tp->heavy_n);
+    heavy_number_density(s, tp->heavy_n, NULL);
     start_density_follows_join(s, old_weight);
     size_t surface = 0;
     for (size_t i = 0; i < s->count; i++) {
