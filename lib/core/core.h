@@ -322,6 +322,7 @@ struct mps2p_solver {
     double *scratch;        /* 2n, stage workspace */
     unsigned char *on_surface;
     neighbour_list neighbours;
+    pair_balance density_blocks, viscosity_blocks; /* the pair sums' splits */
 
     /* derived constants */
     double n0_density, n0_laplacian, lambda;

@@ -223,10 +223,10 @@ static inline size_t first_above(neighbour_rows rows, size_t i)
  * to the upper row only when that row is in the block (below the block's end;
  * the upper block takes it in its first pass). Every row still sums its
  * terms in ascending order of neighbour: the same bits for any number of
- * blocks, and one block is the one-thread loop. Block b of count rows starts
- * where b / blocks of the rows' entries (start, the rows' offsets) lie
- * before it: blocks of equal work, not of equal rows (walls' dummies have
- * empty rows, and a scene lists them last). */
+ * blocks and wherever they split, and one block is the one-thread loop.
+ * Block b of count rows starts where b / blocks of the rows' entries (start,
+ * the rows' offsets) lie before it: blocks of equal work, not of equal rows
+ * (walls' dummies have empty rows, and a scene lists them last). */
 static inline size_t pair_block_first(const size_t *start, size_t count, size_t blocks,
                                       size_t b)
 {
@@ -245,18 +245,51 @@ static inline size_t pair_block_first(const size_t *start, size_t count, size_t 
     return low;
 }
 
-/* PAIR_BLOCKS(threads, start, count, first, end, body): body once for each
- * block of rows [first, end) of count (start: the rows' offsets), one block
- * a thread of team_size(threads). */
-#define PAIR_BLOCKS(threads, start, count, first, end, ...)                        \
+/* Where a team's pair blocks split, as shares of the rows' entries, moved
+ * after each call toward equal times (pair_blocks.c): entries do not all
+ * cost the same (a moving liquid's neighbours lie scattered in memory, a
+ * wall's in order; viscosity skips the walls' pairs), and equal entries left
+ * one thread waiting a third of a block's time in the paper's case
+ * (docs/performance.md). Results do not depend on the split. One for each
+ * pair sum of a solver (not shared: two solvers in two threads). */
+#define BALANCED_BLOCKS 8
+typedef struct pair_balance {
+    double share[BALANCED_BLOCKS + 1]; /* block b starts at share[b] of the entries */
+    double seconds[BALANCED_BLOCKS];   /* each block's time in the last call */
+    size_t blocks;                     /* the team the shares are for (0: none yet) */
+} pair_balance;
+
+/* The block's first row: where share of the entries lie before it. */
+size_t pair_balance_first(const pair_balance *balance, const size_t *start, size_t count,
+                          size_t b);
+/* Shares for a team of blocks (equal entries) unless they are for it. */
+void pair_balance_prepare(pair_balance *balance, size_t blocks);
+/* Moves the shares toward equal times after a call. */
+void pair_balance_update(pair_balance *balance);
+double pair_balance_clock(void);
+
+/* PAIR_BLOCKS(threads, start, count, balance, first, end, body): body once
+ * for each block of rows [first, end) of count (start: the rows' offsets),
+ * one block a thread of team_size(threads), split where balance says. */
+#define PAIR_BLOCKS(threads, start, count, balance, first, end, ...)                \
     do {                                                                         \
         const size_t blocks_ = (size_t)team_size(threads);                       \
+        pair_balance *const balance_ = blocks_ <= BALANCED_BLOCKS ? (balance) : NULL; \
+        if (balance_ && blocks_ > 1)                                             \
+            pair_balance_prepare(balance_, blocks_);                             \
         PARALLEL_FOR(threads, schedule(static, 1) if (blocks_ > 1),              \
         for (size_t block_ = 0; block_ < blocks_; block_++) {                    \
-            const size_t first = pair_block_first(start, count, blocks_, block_); \
-            const size_t end = pair_block_first(start, count, blocks_, block_ + 1); \
+            const size_t first = balance_ ? pair_balance_first(balance_, start, count, block_) \
+                                          : pair_block_first(start, count, blocks_, block_); \
+            const size_t end = balance_ ? pair_balance_first(balance_, start, count, block_ + 1) \
+                                        : pair_block_first(start, count, blocks_, block_ + 1); \
+            const double began_ = blocks_ > 1 && balance_ ? pair_balance_clock() : 0.0; \
             __VA_ARGS__                                                          \
+            if (blocks_ > 1 && balance_)                                         \
+                balance_->seconds[block_] = pair_balance_clock() - began_;       \
         });                                                                      \
+        if (balance_ && blocks_ > 1)                                             \
+            pair_balance_update(balance_);                                       \
     } while (0)
 
 /* The end of row i's entries below limit (a block's end): the entries from

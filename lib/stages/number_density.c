@@ -22,7 +22,7 @@ void number_density_compute(mps2p_solver *s, double *out)
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *position = s->state.position;
     /* each pair's weight once, added to both rows (first_above, pair_block_first) */
-    PAIR_BLOCKS(s->params.threads, nl.start, s->count, first, end,
+    PAIR_BLOCKS(s->params.threads, nl.start, s->count, &s->density_blocks, first, end,
         for (size_t i = first; i < end; i++) {
             double n = 0.0;
             for (size_t k = nl.start[i]; k < nl.start[i + 1] && nl.index[k] < first; k++)

@@ -38,7 +38,7 @@ static void laplacians_pairwise(mps2p_solver *s, const double *velocity, double 
     const neighbour_rows rows = {nl->start, nl->index};
     const double *position = s->state.position;
     const double factor = 2.0 * 2 / (s->lambda * s->n0_laplacian);
-    PAIR_BLOCKS(s->params.threads, nl->start, s->count, first, end,
+    PAIR_BLOCKS(s->params.threads, nl->start, s->count, &s->viscosity_blocks, first, end,
         for (size_t i = first; i < end; i++) {
             double *a = &acceleration[2 * i];
             a[0] = a[1] = 0.0;

@@ -47,7 +47,7 @@ static const double *gas_number_density(mps2p_solver *s)
         volume[i] = liquid_volume(s, i);
     );
     /* each pair's weight once, added to both rows (first_above, pair_block_first) */
-    PAIR_BLOCKS(s->params.threads, nl.start, s->count, first, end,
+    PAIR_BLOCKS(s->params.threads, nl.start, s->count, &tp->gas_density_blocks, first, end,
         for (size_t i = first; i < end; i++) {
             double n = 0.0;
             for (size_t k = nl.start[i]; k < nl.start[i + 1] && nl.index[k] < first; k++) {

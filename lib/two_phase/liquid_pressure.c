@@ -15,12 +15,13 @@
  * same order: the same bits) from the same pass over the pairs. */
 static void heavy_number_density(const mps2p_solver *s, double *out, double *all)
 {
-    const two_phase *tp = s->phases;
+    two_phase *tp = s->phases; /* its splits change */
     const double re = s->params.re_density * s->l0;
     const neighbour_rows nl = neighbour_rows_within(&s->neighbours, re);
     const double *position = s->state.position;
     /* each pair's weight once, added to both rows (first_above, pair_block_first) */
-    PAIR_BLOCKS(s->params.threads, nl.start, s->count, first, end,
+    PAIR_BLOCKS(s->params.threads, nl.start, s->count,
+                all ? &tp->heavy_start_blocks : &tp->heavy_blocks, first, end,
         for (size_t i = first; i < end; i++) {
             double n = 0.0, n_all = 0.0;
             for (size_t k = nl.start[i]; k < nl.start[i + 1] && nl.index[k] < first; k++) {

@@ -55,6 +55,8 @@ typedef struct two_phase {
      * (interface_scan) for this step's join */
     int bubbles_marked;
     size_t bubbles_ahead;
+    /* the pair sums' splits (numerics.h: pair_balance) */
+    pair_balance heavy_start_blocks, heavy_blocks, gas_density_blocks;
 } two_phase;
 
 
