@@ -370,8 +370,9 @@ static int build_in_runs(neighbour_list *list, const double *position)
     store[0] = (row_store){list->index, list->short_index, list->capacity,
                            list->short_capacity, 0, 0};
     /* Runs of about equal work: split where the last build's rows (start,
-     * still the last build's here) reach equal shares of its entries, or of
-     * the rows before a first build. The lists do not depend on the split. */
+     * still the last build's here) reach the shares of its entries that
+     * equalled the last build's times (pair_balance), or equal shares of the
+     * rows before a first build. The lists do not depend on the split. */
     size_t stack_split[STACK_RUNS + 1];
     size_t *split = runs <= STACK_RUNS ? stack_split : calloc(runs + 1, sizeof *split);
     if (!split) {
@@ -381,18 +382,28 @@ static int build_in_runs(neighbour_list *list, const double *position)
             free(offset);
         return fail_growth(list);
     }
+    pair_balance *balance =
+        runs > 1 && runs <= BALANCED_BLOCKS && list->start[n] > 0 ? &list->runs_balance : NULL;
+    if (balance)
+        pair_balance_prepare(balance, runs);
     for (size_t run = 0; run <= runs; run++)
-        split[run] = list->start[n] > 0 ? pair_block_first(list->start, n, runs, run)
-                                        : n * run / runs;
+        split[run] = balance              ? pair_balance_first(balance, list->start, n, run)
+                     : list->start[n] > 0 ? pair_block_first(list->start, n, runs, run)
+                                          : n * run / runs;
     list->start[0] = 0;
     if (with_short)
         list->short_start[0] = 0;
     int failed = 0;
     PARALLEL_FOR(list->threads, schedule(static, 1) reduction(| : failed),
     for (size_t run = 0; run < runs; run++) {
+        const double began = balance ? pair_balance_clock() : 0.0;
         failed |= store_rows(list, position, split[run], split[run + 1], &store[run]) !=
                   MPS2P_OK;
+        if (balance)
+            balance->seconds[run] = pair_balance_clock() - began;
     });
+    if (balance && !failed)
+        pair_balance_update(balance);
     list->index = store[0].index;
     list->short_index = store[0].short_index;
     list->capacity = store[0].capacity;

@@ -132,6 +132,30 @@ void lattice_constants(double l0, double re, double *n0, double *lambda);
  * short_radius + skin (short_radius = re_density l0), in the same order, for
  * the stages that look no further than short_radius (about 20 neighbours
  * instead of 60); see neighbour_rows_within. */
+/* Where a team's pair blocks split, as shares of the rows' entries, moved
+ * after each call toward equal times (pair_blocks.c): entries do not all
+ * cost the same (a moving liquid's neighbours lie scattered in memory, a
+ * wall's in order; viscosity skips the walls' pairs), and equal entries left
+ * one thread waiting a third of a block's time in the paper's case
+ * (docs/performance.md); the neighbour list's runs split the same way.
+ * Results do not depend on the split. One for each pair sum of a solver
+ * (not shared: two solvers in two threads). */
+#define BALANCED_BLOCKS 8
+typedef struct pair_balance {
+    double share[BALANCED_BLOCKS + 1]; /* block b starts at share[b] of the entries */
+    double seconds[BALANCED_BLOCKS];   /* each block's time in the last call */
+    size_t blocks;                     /* the team the shares are for (0: none yet) */
+} pair_balance;
+
+/* The block's first row: where share of the entries lie before it. */
+size_t pair_balance_first(const pair_balance *balance, const size_t *start, size_t count,
+                          size_t b);
+/* Shares for a team of blocks (equal entries) unless they are for it. */
+void pair_balance_prepare(pair_balance *balance, size_t blocks);
+/* Moves the shares toward equal times after a call. */
+void pair_balance_update(pair_balance *balance);
+double pair_balance_clock(void);
+
 typedef struct neighbour_list {
     double cutoff, skin;
     size_t count;
@@ -154,6 +178,7 @@ typedef struct neighbour_list {
     unsigned long builds;
     int stale;           /* a rebuild failed half-way: rebuild at the next update */
     double threads;      /* parameter threads (team_size) */
+    pair_balance runs_balance; /* where a build's runs split (pair_balance) */
     /* Particles left out of every pair (an empty row, in no other row):
      * those i with skip[i] == skip_value; skip NULL = none. Read at each
      * build: the solver points it at its kinds, so that fluid out of the run
@@ -244,29 +269,6 @@ static inline size_t pair_block_first(const size_t *start, size_t count, size_t 
     }
     return low;
 }
-
-/* Where a team's pair blocks split, as shares of the rows' entries, moved
- * after each call toward equal times (pair_blocks.c): entries do not all
- * cost the same (a moving liquid's neighbours lie scattered in memory, a
- * wall's in order; viscosity skips the walls' pairs), and equal entries left
- * one thread waiting a third of a block's time in the paper's case
- * (docs/performance.md). Results do not depend on the split. One for each
- * pair sum of a solver (not shared: two solvers in two threads). */
-#define BALANCED_BLOCKS 8
-typedef struct pair_balance {
-    double share[BALANCED_BLOCKS + 1]; /* block b starts at share[b] of the entries */
-    double seconds[BALANCED_BLOCKS];   /* each block's time in the last call */
-    size_t blocks;                     /* the team the shares are for (0: none yet) */
-} pair_balance;
-
-/* The block's first row: where share of the entries lie before it. */
-size_t pair_balance_first(const pair_balance *balance, const size_t *start, size_t count,
-                          size_t b);
-/* Shares for a team of blocks (equal entries) unless they are for it. */
-void pair_balance_prepare(pair_balance *balance, size_t blocks);
-/* Moves the shares toward equal times after a call. */
-void pair_balance_update(pair_balance *balance);
-double pair_balance_clock(void);
 
 /* PAIR_BLOCKS(threads, start, count, balance, first, end, body): body once
  * for each block of rows [first, end) of count (start: the rows' offsets),
