@@ -87,9 +87,13 @@ size_t coarse_level_memory(const coarse_level *c)
  * an aggregate with all of them; the rest join the aggregate of their
  * strongest taken neighbour (or one of their own if they have none).
  * Returns the number of aggregates. */
-static int aggregate(const sparse_matrix *a, int *aggregate_of)
+static int aggregate(const sparse_matrix *a, int *restrict aggregate_of)
 {
+    /* the matrix in locals: the stores into aggregate_of would otherwise
+     * make the compiler load a's arrays again at every entry */
     const int n = a->rows;
+    const int *restrict row_start = a->row_start, *restrict column = a->column;
+    const double *restrict value = a->value;
     int count = 0;
     for (int i = 0; i < n; i++)
         aggregate_of[i] = -1;
@@ -97,31 +101,31 @@ static int aggregate(const sparse_matrix *a, int *aggregate_of)
         if (aggregate_of[i] >= 0)
             continue;
         int untaken = 1;
-        for (int k = a->row_start[i]; k < a->row_start[i + 1] && untaken; k++)
-            untaken = a->value[k] == 0.0 || aggregate_of[a->column[k]] < 0;
+        for (int k = row_start[i]; k < row_start[i + 1] && untaken; k++)
+            untaken = value[k] == 0.0 || aggregate_of[column[k]] < 0;
         if (!untaken)
             continue;
         /* every neighbour (measured: also the strongest only, those with at
          * least a quarter of the largest coupling, gave fewer iterations but
          * no faster solve) */
-        for (int k = a->row_start[i]; k < a->row_start[i + 1]; k++)
-            if (a->value[k] != 0.0) /* ppe_pattern neighbour_list stores zeros */
-                aggregate_of[a->column[k]] = count;
+        for (int k = row_start[i]; k < row_start[i + 1]; k++)
+            if (value[k] != 0.0) /* ppe_pattern neighbour_list stores zeros */
+                aggregate_of[column[k]] = count;
         aggregate_of[i] = count++;
     }
     for (int i = 0; i < n; i++) {
         if (aggregate_of[i] >= 0)
             continue;
         double strongest = 0.0;
-        for (int k = a->row_start[i]; k < a->row_start[i + 1]; k++) {
-            int j = a->column[k];
-            if (j != i && aggregate_of[j] >= 0 && -a->value[k] > strongest) {
-                strongest = -a->value[k];
-                aggregate_of[i] = aggregate_of[j];
+        int joined = -1;
+        for (int k = row_start[i]; k < row_start[i + 1]; k++) {
+            int j = column[k];
+            if (j != i && aggregate_of[j] >= 0 && -value[k] > strongest) {
+                strongest = -value[k];
+                joined = aggregate_of[j];
             }
         }
-        if (aggregate_of[i] < 0)
-            aggregate_of[i] = count++;
+        aggregate_of[i] = joined >= 0 ? joined : count++;
     }
     return count;
 }
