@@ -38,52 +38,65 @@ static void laplacians_pairwise(mps2p_solver *s, const double *velocity, double 
     const neighbour_rows rows = {nl->start, nl->index};
     const double *position = s->state.position;
     const double factor = 2.0 * 2 / (s->lambda * s->n0_laplacian);
+    /* row i's position, velocity and sums in locals: the stores into the
+     * sums could be into the positions or velocities, as far as the
+     * compiler knows, and it would load them again at every pair */
     PAIR_BLOCKS(s->params.threads, nl->start, s->count, &s->viscosity_blocks, first, end,
         for (size_t i = first; i < end; i++) {
-            double *a = &acceleration[2 * i];
-            a[0] = a[1] = 0.0;
+            const double xi = position[2 * i], yi = position[2 * i + 1];
+            const double ui = velocity[2 * i], vi = velocity[2 * i + 1];
+            double a0 = 0.0, a1 = 0.0;
             for (size_t k = nl->start[i]; k < nl->start[i + 1] && nl->index[k] < first; k++) {
                 size_t j = nl->index[k];
                 if (!takes_term(s, i, j))
                     continue;
-                double dx = position[2 * j] - position[2 * i];
-                double dy = position[2 * j + 1] - position[2 * i + 1];
+                double dx = position[2 * j] - xi;
+                double dy = position[2 * j + 1] - yi;
                 double w = kernel_weight_squared(dx * dx + dy * dy, re);
                 if (w == 0.0)
                     continue;
-                for (size_t c = 0; c < 2; c++)
-                    a[c] += (velocity[2 * j + c] - velocity[2 * i + c]) * w;
+                a0 += (velocity[2 * j] - ui) * w;
+                a1 += (velocity[2 * j + 1] - vi) * w;
             }
+            acceleration[2 * i] = a0;
+            acceleration[2 * i + 1] = a1;
         }
         for (size_t i = first; i < end; i++) {
             const int row_i = viscous(s, i);
             const unsigned char *mask_i = row_mask(s, i);
             const size_t inside = row_end_below(rows, i, end);
+            const double xi = position[2 * i], yi = position[2 * i + 1];
+            const double ui = velocity[2 * i], vi = velocity[2 * i + 1];
+            double a0 = acceleration[2 * i], a1 = acceleration[2 * i + 1];
             for (size_t k = first_above(rows, i); k < nl->start[i + 1]; k++) {
                 size_t j = nl->index[k];
                 int to_i = row_i && (!mask_i || mask_i[j]);
                 int to_j = k < inside && takes_term(s, j, i);
                 if (!to_i && !to_j)
                     continue;
-                double dx = position[2 * j] - position[2 * i];
-                double dy = position[2 * j + 1] - position[2 * i + 1];
+                double dx = position[2 * j] - xi;
+                double dy = position[2 * j + 1] - yi;
                 double w = kernel_weight_squared(dx * dx + dy * dy, re);
                 if (w == 0.0)
                     continue;
-                for (size_t c = 0; c < 2; c++) {
-                    if (to_i)
-                        acceleration[2 * i + c] += (velocity[2 * j + c] - velocity[2 * i + c]) * w;
-                    if (to_j)
-                        acceleration[2 * j + c] += (velocity[2 * i + c] - velocity[2 * j + c]) * w;
+                const double uj = velocity[2 * j], vj = velocity[2 * j + 1];
+                if (to_i) {
+                    a0 += (uj - ui) * w;
+                    a1 += (vj - vi) * w;
+                }
+                if (to_j) {
+                    acceleration[2 * j] += (ui - uj) * w;
+                    acceleration[2 * j + 1] += (vi - vj) * w;
                 }
             }
             if (row_i) {
-                double *a = &acceleration[2 * i];
-                a[0] *= factor;
-                a[1] *= factor;
-                a[0] *= s->viscosity[i];
-                a[1] *= s->viscosity[i];
+                a0 *= factor;
+                a1 *= factor;
+                a0 *= s->viscosity[i];
+                a1 *= s->viscosity[i];
             }
+            acceleration[2 * i] = a0;
+            acceleration[2 * i + 1] = a1;
         }
     );
 }
