@@ -13,6 +13,7 @@
 #include "numerics/numerics.h"
 
 #include <cholmod.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -23,6 +24,7 @@ struct coarse_level {
     cholmod_dense *solution, *work_y, *work_e; /* cholmod_solve2's, reused */
     int *aggregate_of;                         /* of each unknown */
     int *member_start, *member;                /* the unknowns of each aggregate */
+    int *lead_order, *lead_row; /* the aggregates by their first unknown, and it */
     int *coarse_start, *coarse_row, *marker;   /* A_c's upper triangle, by columns */
     double *coarse_value, *accumulated, *restricted;
     size_t rows_capacity, count_capacity, entries_capacity;
@@ -65,6 +67,8 @@ void coarse_level_destroy(coarse_level *c)
     free(c->aggregate_of);
     free(c->member_start);
     free(c->member);
+    free(c->lead_order);
+    free(c->lead_row);
     free(c->coarse_start);
     free(c->coarse_row);
     free(c->marker);
@@ -79,7 +83,7 @@ size_t coarse_level_memory(const coarse_level *c)
     if (!c)
         return 0;
     return sizeof *c + c->rows_capacity * 2 * sizeof(int) +
-           c->count_capacity * (3 * sizeof(int) + 2 * sizeof(double)) +
+           c->count_capacity * (5 * sizeof(int) + 2 * sizeof(double)) +
            c->entries_capacity * (sizeof(int) + sizeof(double)) + c->common.memory_inuse;
 }
 
@@ -144,6 +148,14 @@ static void group_members(coarse_level *c, int n)
     for (int g = c->count; g > 0; g--)
         start[g] = start[g - 1];
     start[0] = 0;
+    int lead = 0;
+    for (int i = 0; i < n; i++) {
+        const int g = c->aggregate_of[i];
+        if (c->member[start[g]] == i) {
+            c->lead_order[lead] = g;
+            c->lead_row[lead++] = i;
+        }
+    }
 }
 
 static int compare_int(const void *x, const void *y)
@@ -319,6 +331,8 @@ int coarse_level_setup(coarse_level *c, const sparse_matrix *a, double threads, 
     const size_t count = (size_t)aggregates;
     if (count + 1 > c->count_capacity) {
         if (!grow(&c->member_start, count + 1, sizeof(int)) ||
+            !grow(&c->lead_order, count + 1, sizeof(int)) ||
+            !grow(&c->lead_row, count + 1, sizeof(int)) ||
             !grow(&c->coarse_start, count + 1, sizeof(int)) ||
             !grow(&c->marker, count + 1, sizeof(int)) ||
             !grow(&c->accumulated, count + 1, sizeof(double)) ||
@@ -368,18 +382,55 @@ out_of_memory:
     return MPS2P_ERR_NOMEM;
 }
 
+/* The first q with lead_row[q] >= row. */
+static int first_lead_from(const coarse_level *c, size_t row)
+{
+    int low = 0, high = c->count;
+    while (low < high) {
+        int middle = low + (high - low) / 2;
+        if ((size_t)c->lead_row[middle] < row)
+            low = middle + 1;
+        else
+            high = middle;
+    }
+    return low;
+}
+
+/* Each sum is a chain of dependent additions (about ten): four aggregates at
+ * a time, side by side, each still summed in its members' order. */
+#define RESTRICT_LANES 4
+
 void coarse_level_restrict(coarse_level *c, const double *r, size_t first_row, size_t end_row)
 {
     if (!c->factor)
         return;
-    const size_t end = end_row < (size_t)c->rows ? end_row : (size_t)c->rows;
-    for (size_t i = first_row; i < end; i++) {
-        const int g = c->aggregate_of[i];
-        const int *member = c->member + c->member_start[g];
-        if ((size_t)member[0] != i) /* not the aggregate's first unknown */
-            continue;
+    const int first = first_lead_from(c, first_row), end = first_lead_from(c, end_row);
+    const int *start = c->member_start, *member = c->member;
+    int q = first;
+    for (; q + RESTRICT_LANES <= end; q += RESTRICT_LANES) {
+        const int *members[RESTRICT_LANES];
+        int length[RESTRICT_LANES], common = INT_MAX;
+        double sum[RESTRICT_LANES];
+        for (int lane = 0; lane < RESTRICT_LANES; lane++) {
+            const int g = c->lead_order[q + lane];
+            members[lane] = member + start[g];
+            length[lane] = start[g + 1] - start[g];
+            common = length[lane] < common ? length[lane] : common;
+            sum[lane] = 0.0;
+        }
+        for (int m = 0; m < common; m++)
+            for (int lane = 0; lane < RESTRICT_LANES; lane++)
+                sum[lane] += r[members[lane][m]];
+        for (int lane = 0; lane < RESTRICT_LANES; lane++) {
+            for (int m = common; m < length[lane]; m++)
+                sum[lane] += r[members[lane][m]];
+            c->restricted[c->lead_order[q + lane]] = sum[lane];
+        }
+    }
+    for (; q < end; q++) {
+        const int g = c->lead_order[q];
         double sum = 0.0;
-        for (int m = 0; m < c->member_start[g + 1] - c->member_start[g]; m++)
+        for (int m = start[g]; m < start[g + 1]; m++)
             sum += r[member[m]];
         c->restricted[g] = sum;
     }
