@@ -241,6 +241,20 @@ static inline size_t first_above(neighbour_rows rows, size_t i)
     return k;
 }
 
+/* The first row i of count with start[i] >= target. */
+static inline size_t first_row_from(const size_t *start, size_t count, size_t target)
+{
+    size_t low = 0, high = count;
+    while (low < high) {
+        size_t middle = low + (high - low) / 2;
+        if (start[middle] < target)
+            low = middle + 1;
+        else
+            high = middle;
+    }
+    return low;
+}
+
 /* With threads, the pair sums above run in blocks of consecutive rows, one
  * block a thread: a block first gives each of its rows, in ascending order,
  * the terms of its neighbours below the block (pair_block_first), then takes
@@ -257,17 +271,9 @@ static inline size_t pair_block_first(const size_t *start, size_t count, size_t 
 {
     if (b >= blocks)
         return count;
-    const size_t target = start[0] + (start[count] - start[0]) / blocks * b +
-                          (start[count] - start[0]) % blocks * b / blocks;
-    size_t low = 0, high = count; /* the first row i with start[i] >= target */
-    while (low < high) {
-        size_t middle = low + (high - low) / 2;
-        if (start[middle] < target)
-            low = middle + 1;
-        else
-            high = middle;
-    }
-    return low;
+    return first_row_from(start, count,
+                          start[0] + (start[count] - start[0]) / blocks * b +
+                              (start[count] - start[0]) % blocks * b / blocks);
 }
 
 /* PAIR_BLOCKS(threads, start, count, balance, first, end, body): body once

@@ -37,16 +37,8 @@ size_t pair_balance_first(const pair_balance *balance, const size_t *start, size
     if (b >= balance->blocks)
         return count;
     const size_t entries = start[count] - start[0];
-    const size_t target = start[0] + (size_t)(balance->share[b] * (double)entries);
-    size_t low = 0, high = count; /* the first row i with start[i] >= target */
-    while (low < high) {
-        size_t middle = low + (high - low) / 2;
-        if (start[middle] < target)
-            low = middle + 1;
-        else
-            high = middle;
-    }
-    return low;
+    return first_row_from(start, count,
+                          start[0] + (size_t)(balance->share[b] * (double)entries));
 }
 
 void pair_balance_update(pair_balance *balance)
