@@ -24,7 +24,7 @@ struct coarse_level {
     cholmod_dense *solution, *work_y, *work_e; /* cholmod_solve2's, reused */
     int *aggregate_of;                         /* of each unknown */
     int *member_start, *member;                /* the unknowns of each aggregate */
-    int *lead_order, *lead_row; /* the aggregates by their first unknown, and it */
+    int *lead_order; /* the aggregates in the order of their first unknowns */
     int *coarse_start, *coarse_row, *marker;   /* A_c's upper triangle, by columns */
     double *coarse_value, *accumulated, *restricted;
     size_t rows_capacity, count_capacity, entries_capacity;
@@ -68,7 +68,6 @@ void coarse_level_destroy(coarse_level *c)
     free(c->member_start);
     free(c->member);
     free(c->lead_order);
-    free(c->lead_row);
     free(c->coarse_start);
     free(c->coarse_row);
     free(c->marker);
@@ -83,7 +82,7 @@ size_t coarse_level_memory(const coarse_level *c)
     if (!c)
         return 0;
     return sizeof *c + c->rows_capacity * 2 * sizeof(int) +
-           c->count_capacity * (5 * sizeof(int) + 2 * sizeof(double)) +
+           c->count_capacity * (4 * sizeof(int) + 2 * sizeof(double)) +
            c->entries_capacity * (sizeof(int) + sizeof(double)) + c->common.memory_inuse;
 }
 
@@ -151,10 +150,8 @@ static void group_members(coarse_level *c, int n)
     int lead = 0;
     for (int i = 0; i < n; i++) {
         const int g = c->aggregate_of[i];
-        if (c->member[start[g]] == i) {
-            c->lead_order[lead] = g;
-            c->lead_row[lead++] = i;
-        }
+        if (c->member[start[g]] == i)
+            c->lead_order[lead++] = g;
     }
 }
 
@@ -332,7 +329,6 @@ int coarse_level_setup(coarse_level *c, const sparse_matrix *a, double threads, 
     if (count + 1 > c->count_capacity) {
         if (!grow(&c->member_start, count + 1, sizeof(int)) ||
             !grow(&c->lead_order, count + 1, sizeof(int)) ||
-            !grow(&c->lead_row, count + 1, sizeof(int)) ||
             !grow(&c->coarse_start, count + 1, sizeof(int)) ||
             !grow(&c->marker, count + 1, sizeof(int)) ||
             !grow(&c->accumulated, count + 1, sizeof(double)) ||
@@ -382,13 +378,13 @@ out_of_memory:
     return MPS2P_ERR_NOMEM;
 }
 
-/* The first q with lead_row[q] >= row. */
+/* The first q whose aggregate lead_order[q] starts at or after row. */
 static int first_lead_from(const coarse_level *c, size_t row)
 {
     int low = 0, high = c->count;
     while (low < high) {
         int middle = low + (high - low) / 2;
-        if ((size_t)c->lead_row[middle] < row)
+        if ((size_t)c->member[c->member_start[c->lead_order[middle]]] < row)
             low = middle + 1;
         else
             high = middle;

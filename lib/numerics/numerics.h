@@ -124,14 +124,6 @@ void lattice_constants(double l0, double re, double *n0, double *lambda);
 
 /* ---- neighbour list (neighbours.c) ---- */
 
-/* Every pair closer than cutoff = max radius + skin, kept as a compressed
- * row list (both directions, ordered by index); rebuilt when the two largest
- * displacements since the last build add up to more than the skin, so each
- * stage can reuse it.
- * At each build a short list is also taken from it: the pairs closer than
- * short_radius + skin (short_radius = re_density l0), in the same order, for
- * the stages that look no further than short_radius (about 20 neighbours
- * instead of 60); see neighbour_rows_within. */
 /* Where a team's pair blocks split, as shares of the rows' entries, moved
  * after each call toward equal times (pair_blocks.c): entries do not all
  * cost the same (a moving liquid's neighbours lie scattered in memory, a
@@ -156,6 +148,14 @@ void pair_balance_prepare(pair_balance *balance, size_t blocks);
 void pair_balance_update(pair_balance *balance);
 double pair_balance_clock(void);
 
+/* Every pair closer than cutoff = max radius + skin, kept as a compressed
+ * row list (both directions, ordered by index); rebuilt when the two largest
+ * displacements since the last build add up to more than the skin, so each
+ * stage can reuse it.
+ * At each build a short list is also taken from it: the pairs closer than
+ * short_radius + skin (short_radius = re_density l0), in the same order, for
+ * the stages that look no further than short_radius (about 20 neighbours
+ * instead of 60); see neighbour_rows_within. */
 typedef struct neighbour_list {
     double cutoff, skin;
     size_t count;
@@ -282,8 +282,9 @@ static inline size_t pair_block_first(const size_t *start, size_t count, size_t 
 #define PAIR_BLOCKS(threads, start, count, balance, first, end, ...)                \
     do {                                                                         \
         const size_t blocks_ = (size_t)team_size(threads);                       \
-        pair_balance *const balance_ = blocks_ <= BALANCED_BLOCKS ? (balance) : NULL; \
-        if (balance_ && blocks_ > 1)                                             \
+        pair_balance *const balance_ =                                           \
+            blocks_ > 1 && blocks_ <= BALANCED_BLOCKS ? (balance) : NULL;        \
+        if (balance_)                                                            \
             pair_balance_prepare(balance_, blocks_);                             \
         PARALLEL_FOR(threads, schedule(static, 1) if (blocks_ > 1),              \
         for (size_t block_ = 0; block_ < blocks_; block_++) {                    \
@@ -291,12 +292,12 @@ static inline size_t pair_block_first(const size_t *start, size_t count, size_t 
                                           : pair_block_first(start, count, blocks_, block_); \
             const size_t end = balance_ ? pair_balance_first(balance_, start, count, block_ + 1) \
                                         : pair_block_first(start, count, blocks_, block_ + 1); \
-            const double began_ = blocks_ > 1 && balance_ ? pair_balance_clock() : 0.0; \
+            const double began_ = balance_ ? pair_balance_clock() : 0.0;         \
             __VA_ARGS__                                                          \
-            if (blocks_ > 1 && balance_)                                         \
+            if (balance_)                                                        \
                 balance_->seconds[block_] = pair_balance_clock() - began_;       \
         });                                                                      \
-        if (balance_ && blocks_ > 1)                                             \
+        if (balance_)                                                            \
             pair_balance_update(balance_);                                       \
     } while (0)
 

@@ -42,8 +42,9 @@ static void heavy_number_density(const mps2p_solver *s, double *out, double *all
         for (size_t i = first; i < end; i++) {
             double n = out[i], n_all = all ? all[i] : 0.0;
             /* the rows above in this block take i's term if i is seen */
-            const size_t inside_all = all ? row_end_below(nl, i, end) : 0;
-            const size_t inside = tp->heavy_mask[i] ? row_end_below(nl, i, end) : 0;
+            const size_t below = all || tp->heavy_mask[i] ? row_end_below(nl, i, end) : 0;
+            const size_t inside_all = all ? below : 0;
+            const size_t inside = tp->heavy_mask[i] ? below : 0;
             for (size_t k = first_above(nl, i); k < nl.start[i + 1]; k++) {
                 size_t j = nl.index[k];
                 const int to_j = k < inside;
