@@ -98,13 +98,77 @@ static double moved2(const neighbour_list *list, const double *position, size_t 
     return dx * dx + dy * dy;
 }
 
-/* A pair listed at the last build can have closed in by at most the sum of
- * its two particles' displacements since, so the list holds every pair within
- * cutoff - skin until the two largest displacements add up to more than the
- * skin (before: until any one displacement passed half of it; one fast spray
- * particle then rebuilt the list for all: 12 % more builds in the paper's
- * case, docs/performance.md). Maxima, sums of ties and ORs: the same for any
- * split among threads. */
+static int skipped(const neighbour_list *list, size_t i)
+{
+    return list->skip && list->skip[i] == list->skip_value;
+}
+
+/* Whether j is in the sorted row index[first, end). */
+static int listed(const uint32_t *index, size_t first, size_t end, size_t j)
+{
+    size_t low = first, high = end;
+    while (low < high) {
+        size_t middle = low + (high - low) / 2;
+        if (index[middle] < j)
+            low = middle + 1;
+        else
+            high = middle;
+    }
+    return low < end && index[low] == j;
+}
+
+/* Whether the row of particle i (moved by more than half the skin, at most
+ * the skin, since the last build) lacks a particle now within the stages'
+ * largest radius (cutoff - skin) or, for the short row, within short_radius.
+ * A pair beyond the cutoff at the build can be within cutoff - skin now only
+ * if the difference of its two displacements is longer than the skin; its
+ * other particle was then within the cutoff of i's place now: in the 3x3
+ * cells (each at least the cutoff wide) around it. */
+static int row_lacks_pair(const neighbour_list *list, const double *position, size_t i)
+{
+    const double reach = list->cutoff - list->skin, reach2 = reach * reach;
+    const double short_reach2 = list->short_start ? list->short_radius * list->short_radius : 0.0;
+    const double skin2 = list->skin * list->skin;
+    const double xi = position[2 * i], yi = position[2 * i + 1];
+    const double moved_x = xi - list->built_at[2 * i], moved_y = yi - list->built_at[2 * i + 1];
+    size_t c = cell_of(list, position, i), columns = list->cells[0];
+    size_t cx = c % columns, cy = c / columns;
+    size_t x0 = cx > 0 ? cx - 1 : 0, x1 = cx + 1 < columns ? cx + 1 : cx;
+    size_t y0 = cy > 0 ? cy - 1 : 0, y1 = cy + 1 < list->cells[1] ? cy + 1 : cy;
+    for (size_t y = y0; y <= y1; y++) {
+        for (size_t k = list->cell_start[y * columns + x0];
+             k < list->cell_start[y * columns + x1 + 1]; k++) {
+            size_t j = list->cell_particle[k];
+            double dx = position[2 * j] - xi, dy = position[2 * j + 1] - yi;
+            double d2 = dx * dx + dy * dy;
+            if (!(d2 < reach2) || j == i)
+                continue;
+            double apart_x = moved_x - (position[2 * j] - list->built_at[2 * j]);
+            double apart_y = moved_y - (position[2 * j + 1] - list->built_at[2 * j + 1]);
+            if (apart_x * apart_x + apart_y * apart_y <= skin2)
+                continue;
+            if (!listed(list->index, list->start[i], list->start[i + 1], j) ||
+                (d2 < short_reach2 &&
+                 !listed(list->short_index, list->short_start[i], list->short_start[i + 1], j)))
+                return 1;
+        }
+    }
+    return 0;
+}
+
+/* A pair can have closed in since the last build by at most the sum of its
+ * two particles' displacements, so the rows hold every pair within cutoff -
+ * skin while no two displacements add up to more than the skin. Past that,
+ * rather than rebuilding at once (the paper's case did for a jet moving as
+ * one, or for two spray particles far apart: 949 builds in 1845 steps, 595
+ * now, docs/performance.md), the rows of the particles moved by more than
+ * half the skin are compared with their neighbourhoods now; the list is
+ * rebuilt when one lacks a pair, or when a particle has moved by more than
+ * the skin (its neighbourhood is then beyond the cells searched). A row's
+ * pairs beyond a stage's radius add nothing to its sums: the results do not
+ * depend on when the list was built (but for option ppe_pattern
+ * "neighbour_list", whose matrix holds them: by rounding). Maxima and ORs:
+ * the same for any split among threads. */
 static int needs_rebuild(const neighbour_list *list, const double *position)
 {
     if (list->builds == 0 || list->stale)
@@ -122,21 +186,14 @@ static int needs_rebuild(const neighbour_list *list, const double *position)
         return 1;
     if (4.0 * largest <= skin2)
         return 0; /* twice the largest is within the skin */
-    double below = 0.0; /* the largest of the rest */
-    size_t at_largest = 0;
-    PARALLEL_FOR(list->threads, schedule(static) reduction(max : below) reduction(+ : at_largest),
+    int lacking = 0;
+    PARALLEL_FOR(list->threads, schedule(dynamic, 64) reduction(| : lacking),
     for (size_t i = 0; i < list->count; i++) {
         double d2 = moved2(list, position, i);
-        at_largest += d2 == largest;
-        below = d2 < largest && d2 > below ? d2 : below;
+        if (!lacking && 4.0 * d2 > skin2 && !skipped(list, i))
+            lacking = row_lacks_pair(list, position, i);
     });
-    const double second = at_largest > 1 ? largest : below;
-    return !(sqrt(largest) + sqrt(second) <= list->skin);
-}
-
-static int skipped(const neighbour_list *list, size_t i)
-{
-    return list->skip && list->skip[i] == list->skip_value;
+    return lacking;
 }
 
 /* Counting sort of particles into cells; particles keep index order inside a

@@ -149,9 +149,8 @@ void pair_balance_update(pair_balance *balance);
 double pair_balance_clock(void);
 
 /* Every pair closer than cutoff = max radius + skin, kept as a compressed
- * row list (both directions, ordered by index); rebuilt when the two largest
- * displacements since the last build add up to more than the skin, so each
- * stage can reuse it.
+ * row list (both directions, ordered by index); rebuilt when a row lacks a
+ * pair now within cutoff - skin (needs_rebuild), so each stage can reuse it.
  * At each build a short list is also taken from it: the pairs closer than
  * short_radius + skin (short_radius = re_density l0), in the same order, for
  * the stages that look no further than short_radius (about 20 neighbours
