@@ -139,13 +139,14 @@ static int row_lacks_pair(const neighbour_list *list, const double *position, si
         for (size_t k = list->cell_start[y * columns + x0];
              k < list->cell_start[y * columns + x1 + 1]; k++) {
             size_t j = list->cell_particle[k];
-            double dx = position[2 * j] - xi, dy = position[2 * j + 1] - yi;
-            double d2 = dx * dx + dy * dy;
-            if (!(d2 < reach2) || j == i)
-                continue;
+            /* the rare test first: most of a row's neighbourhood moves with it */
             double apart_x = moved_x - (position[2 * j] - list->built_at[2 * j]);
             double apart_y = moved_y - (position[2 * j + 1] - list->built_at[2 * j + 1]);
             if (apart_x * apart_x + apart_y * apart_y <= skin2)
+                continue;
+            double dx = position[2 * j] - xi, dy = position[2 * j + 1] - yi;
+            double d2 = dx * dx + dy * dy;
+            if (!(d2 < reach2))
                 continue;
             if (!listed(list->index, list->start[i], list->start[i + 1], j) ||
                 (d2 < short_reach2 &&
