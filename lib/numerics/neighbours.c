@@ -126,9 +126,12 @@ static int listed(const uint32_t *index, size_t first, size_t end, size_t j)
  * cells (each at least the cutoff wide) around it. */
 static int row_lacks_pair(const neighbour_list *list, const double *position, size_t i)
 {
-    const double reach = list->cutoff - list->skin, reach2 = reach * reach;
-    const double short_reach2 = list->short_start ? list->short_radius * list->short_radius : 0.0;
-    const double skin2 = list->skin * list->skin;
+    /* a hair's margin each way, so that rounding can only rebuild more */
+    const double wider = 1.0 + 1e-9, reach = list->cutoff - list->skin;
+    const double reach2 = reach * reach * wider;
+    const double short_reach2 =
+        list->short_start ? list->short_radius * list->short_radius * wider : 0.0;
+    const double skin2 = list->skin * list->skin / wider;
     const double xi = position[2 * i], yi = position[2 * i + 1];
     const double moved_x = xi - list->built_at[2 * i], moved_y = yi - list->built_at[2 * i + 1];
     size_t c = cell_of(list, position, i), columns = list->cells[0];
