@@ -103,18 +103,14 @@ static int skipped(const neighbour_list *list, size_t i)
     return list->skip && list->skip[i] == list->skip_value;
 }
 
-/* Whether j is in the sorted row index[first, end). */
+/* Whether j is in the sorted row index[first, end) (asked rarely: the
+ * pairs that moved apart by more than the skin and are within reach). */
 static int listed(const uint32_t *index, size_t first, size_t end, size_t j)
 {
-    size_t low = first, high = end;
-    while (low < high) {
-        size_t middle = low + (high - low) / 2;
-        if (index[middle] < j)
-            low = middle + 1;
-        else
-            high = middle;
-    }
-    return low < end && index[low] == j;
+    for (size_t k = first; k < end && index[k] <= j; k++)
+        if (index[k] == j)
+            return 1;
+    return 0;
 }
 
 /* Whether the row of particle i (moved by more than half the skin, at most
