@@ -74,9 +74,10 @@ int main(void)
         CHECK(list.builds == 2 && rows_wrong(&list, p) == 0, "past the skin: %lu builds",
               list.builds);
 
-        /* Two opposite corners' columns close in by 0.6 skin each (a pair
-         * at cutoff + 0.1 skin at the build ends at cutoff - 1.1 skin):
-         * the rest is still, only the rows can tell. */
+        /* The last column, set cutoff + 0.1 skin from the one before it,
+         * and that column move toward each other by 0.6 skin each (their
+         * pairs end at cutoff - 1.1 skin): the rest is still, so only the
+         * rows can tell. One column moving alone closes nothing in. */
         double q[2 * COUNT];
         memcpy(q, p, sizeof q);
         const double gap = cutoff + 0.1 * skin;
